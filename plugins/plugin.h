@@ -1,0 +1,152 @@
+// The fragment-shader plugin ABI (DESIGN.md, "The fragment-shader plugin ABI").
+//
+// A plugin is a PluginDescriptor: a name, a one-line description, a parameter schema, the texture
+// slots it reads, the effects it supports, and `select`, which returns the packet shader for one
+// combination of effects. Effects are compile-time parameters of the kernels, so `select` hands
+// back a different template instantiation per combination and an unused effect costs nothing per
+// fragment. The shader is called once per packet of quads (rasterizer/fragment.h); dispatch is
+// resolved per draw, never per fragment.
+//
+// Built-in plugins are listed in plugins/builtin.cpp. An external plugin is a shared object
+// exporting `extern "C" const relief::PluginDescriptor* relief_plugin_entry(void)` whose
+// abi_version equals kPluginAbiVersion.
+#pragma once
+
+#include <cstdint>
+
+#include <glm/mat4x4.hpp>
+#include <glm/vec3.hpp>
+#include <glm/vec4.hpp>
+
+#include "rasterizer/fragment.h"
+#include "rasterizer/texture.h"
+
+namespace relief {
+
+inline constexpr uint32_t kPluginAbiVersion = 1;
+
+// ---- parameters ----
+enum class ParamType : uint8_t { kFloat, kInt, kBool, kEnum };
+
+// One entry of a plugin's parameter schema. Values travel as float in schema order; an int or
+// bool is a whole float, an enum the index of its choice in `choices` ("a|b|c").
+struct ParamSpec {
+  const char* name;
+  ParamType type;
+  float default_value;
+  float min_value;
+  float max_value;
+  const char* choices;  // enums only, else nullptr
+  const char* help;
+};
+
+// ---- textures ----
+// Texture slots a plugin reads. Conventional names: "base_color" (sRGB colour), "normal"
+// (tangent-space normal map, linear RGB, z up), "depth" (depth map: 0 at the reference surface,
+// 1 deepest, linear), "cone" (cone ratios, derived).
+struct TextureSlotSpec {
+  const char* name;
+  bool required;
+  const char* help;
+};
+inline constexpr int kMaxTextureSlots = 8;
+inline constexpr int kMaxParams = 32;
+
+// ---- effects ----
+enum Effect : uint32_t {
+  kEffectSelfShadow = 1u << 0,     // trace a shadow ray through the height field to each light
+  kEffectDepthWrite = 1u << 1,     // write the depth of the relief hit (depth correction)
+  kEffectSilhouette = 1u << 2,     // discard rays that leave the surface (curved silhouettes)
+  kEffectShadowPass = 1u << 3,     // running in a light's depth pass: intersection and depth only
+  kEffectReceiveShadow = 1u << 4,  // look up shadow maps
+};
+using EffectMask = uint32_t;
+
+// How a shader's depth relates to the polygon's: decides the rasterizer's depth-test path.
+enum class DepthOutput : uint8_t {
+  kNone,     // polygon depth: early test
+  kFarther,  // relief depth, never closer than the polygon's: conservative early + late test
+  kAny,      // arbitrary: late test only
+};
+
+// ---- the standard varying layout the scene feeds every plugin ----
+namespace varying {
+inline constexpr int kPosition = 0;   // world position xyz
+inline constexpr int kNormal = 3;     // world normal xyz (not normalised)
+inline constexpr int kTangent = 6;    // world tangent xyz, bitangent sign w
+inline constexpr int kUv = 10;        // texture coordinates (material tiling applied)
+inline constexpr int kQuadric = 12;   // per-vertex quadric coefficients a, b
+inline constexpr int kTileScale = 14; // texture-tile size sx, sy in object units
+inline constexpr int kCount = 16;
+}  // namespace varying
+
+// ---- uniforms ----
+enum class LightType : uint8_t { kDirectional, kPoint, kSpot };
+
+struct ShadowMapView;  // defined by the renderer; opaque to plugins that do not receive shadows
+
+struct LightUniform {
+  LightType type = LightType::kDirectional;
+  glm::vec3 position{0.0f};        // point and spot
+  glm::vec3 direction{0, -1, 0};   // direction the light travels (directional, spot)
+  glm::vec3 color{1.0f};           // linear radiance scale, intensity included
+  float range = 0.0f;              // 0: no cut-off
+  float inner_cone_cos = 1.0f;     // spot
+  float outer_cone_cos = 0.0f;     // spot
+  const ShadowMapView* shadow = nullptr;
+};
+inline constexpr int kMaxLights = 8;
+
+// Per pass: camera and lights, the same for every draw of the pass.
+struct FrameUniforms {
+  glm::mat4 view{1.0f};
+  glm::mat4 view_proj{1.0f};        // world -> clip, reversed-Z [0, 1]
+  glm::vec3 eye{0.0f};              // camera (or light) position, world
+  bool orthographic = false;        // eye rays are parallel to view_dir
+  glm::vec3 view_dir{0, 0, -1};     // world, for orthographic views
+  glm::vec3 ambient{0.03f};
+  LightUniform lights[kMaxLights];
+  int num_lights = 0;
+  AovMask aovs = 0;                 // AOVs the pass writes
+  int width = 0, height = 0;
+};
+
+// Per draw: the material's parameter values (schema order), textures by slot and base colour.
+struct MaterialUniforms {
+  float params[kMaxParams] = {};
+  const Texture* textures[kMaxTextureSlots] = {};
+  SamplerState samplers[kMaxTextureSlots];
+  glm::vec4 base_color{1.0f};
+  float specular = 0.25f;
+  float shininess = 32.0f;
+};
+
+struct ShadeContext {
+  const FrameUniforms* frame;
+  const MaterialUniforms* material;
+  const void* state;   // from PluginDescriptor::create_state, may be null
+  EffectMask effects;  // the effects this variant was selected for
+};
+
+using ShadeFn = void (*)(const ShadeContext& ctx, const FragmentPacket& in, FragmentOutput& out,
+                         WorkCounters& counters);
+
+struct PluginDescriptor {
+  uint32_t abi_version;
+  const char* name;
+  const char* description;
+  const ParamSpec* params;
+  int num_params;
+  const TextureSlotSpec* textures;
+  int num_textures;
+  EffectMask supported_effects;
+  // The packet shader for `effects` (a subset of supported_effects).
+  ShadeFn (*select)(EffectMask effects);
+  // Depth the variant writes.
+  DepthOutput (*depth_output)(EffectMask effects);
+  // Optional: derived data built once per material (max-mips, ...); freed by destroy_state.
+  void* (*create_state)(const MaterialUniforms& material);
+  void (*destroy_state)(void* state);
+};
+
+}  // namespace relief

@@ -1,0 +1,39 @@
+// Plugins by name: the built-ins (plugins/builtin.cpp) and those loaded from shared objects.
+#pragma once
+
+#include <map>
+#include <string>
+#include <vector>
+
+#include "plugins/plugin.h"
+#include "rasterizer/status.h"
+
+namespace relief {
+
+class PluginRegistry {
+ public:
+  // The process-wide registry, holding the built-ins.
+  static PluginRegistry& global();
+
+  const PluginDescriptor* find(const std::string& name) const;
+  std::vector<const PluginDescriptor*> all() const;  // sorted by name
+  // Loads `path` (dlopen), calls relief_plugin_entry and registers the descriptor. A missing
+  // file, a missing entry, a wrong ABI version or a name already taken is an error.
+  Status load(const std::string& path);
+  Status add(const PluginDescriptor* plugin);
+
+ private:
+  std::map<std::string, const PluginDescriptor*> plugins_;
+};
+
+// Parameter values in schema order: defaults, then `overrides` (from the scene, by name), then
+// `text_overrides` (from the CLI, key=value strings). Unknown names, values that do not parse,
+// are out of range or are not one of an enum's choices are errors naming the parameter.
+Result<std::vector<float>> resolve_params(const PluginDescriptor& plugin,
+                                          const std::map<std::string, float>& overrides,
+                                          const std::map<std::string, std::string>& text_overrides);
+int param_index(const PluginDescriptor& plugin, const char* name);  // -1 if absent
+// "steps=32 (int, 1..256) ..." one line per parameter, for `relief techniques`.
+std::string describe_params(const PluginDescriptor& plugin);
+
+}  // namespace relief

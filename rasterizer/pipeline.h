@@ -1,0 +1,94 @@
+// The CPU rasterization pipeline (DESIGN.md, "The CPU pipeline").
+//
+// Input: draws of indexed triangles whose vertices are already in homogeneous clip space
+// (reversed-Z, GL_ZERO_TO_ONE: visible when 0 <= z <= w, z = w at the near plane), each vertex
+// carrying num_varyings floats. The pipeline clips against near and far, clips against a guard
+// band only when a triangle leaves it, maps to a viewport whose pixel (0, 0) is top-left, snaps to
+// fixed point with 8 sub-pixel bits, culls by winding (counter-clockwise in NDC is front, like
+// GL's default), bins triangles into square tiles, and lets a pool of threads take tiles by an
+// atomic counter. One thread owns a tile for the whole pass and processes the tile's triangles in
+// submission order, so the image does not depend on the thread count or the tile size.
+// Fragments reach the draw's shader in packets of 2x2 quads (fragment.h); the depth test is
+// GREATER against a float32 buffer cleared to 0.
+#pragma once
+
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include <glm/mat4x4.hpp>
+#include <glm/vec3.hpp>
+#include <glm/vec4.hpp>
+
+#include "rasterizer/fragment.h"
+#include "rasterizer/image.h"
+#include "rasterizer/thread_pool.h"
+
+namespace relief {
+
+enum class CullMode : uint8_t { kNone, kBack, kFront };
+
+// Where the depth test runs, from what the shader writes.
+enum class DepthTest : uint8_t {
+  kEarly,         // shader writes no depth: test the polygon depth before shading
+  kConservative,  // shader depth is never closer than the polygon's: reject early with the
+                  // polygon depth, test the shader depth late
+  kLate,          // shader depth is arbitrary: test after shading only
+};
+
+// The packet shader: colour, optional depth, discards and AOVs for every lane of `in`.
+using PacketShader = void (*)(const void* user, const FragmentPacket& in, FragmentOutput& out,
+                              WorkCounters& counters);
+
+struct DrawCall {
+  std::span<const glm::vec4> clip;   // per vertex
+  std::span<const float> varyings;   // per vertex, num_varyings each
+  int num_varyings = 0;              // <= kMaxVaryings
+  std::span<const uint32_t> indices; // three per triangle
+  CullMode cull = CullMode::kBack;
+  DepthTest depth_test = DepthTest::kEarly;
+  bool depth_write = true;
+  bool color_write = true;
+  bool aov_write = false;            // copy the shader's AOVs into the framebuffer
+  PacketShader shader = nullptr;
+  const void* user = nullptr;        // passed to the shader
+};
+
+struct RasterConfig {
+  int tile_size = 64;  // pixels, even, 8..512
+};
+
+struct RasterStats {
+  uint64_t triangles_in = 0;
+  uint64_t triangles_culled = 0;   // back-facing, zero-area, non-finite or outside the view
+  uint64_t triangles_clipped = 0;  // went through the clipper
+  uint64_t triangles_binned = 0;   // after clipping
+  uint64_t quads = 0;              // quads with coverage handed to shaders
+  WorkCounters work;               // summed over threads
+  double setup_ms = 0.0;           // serial: clip, setup, binning
+  double raster_ms = 0.0;          // parallel: traversal and shading
+};
+
+// Largest supported target, per axis. The guard band is +-kGuardBand pixels around the viewport;
+// with 8 sub-pixel bits every edge-function term fits in 64-bit integers.
+inline constexpr int kMaxTargetSize = 16384;
+inline constexpr int kGuardBand = 32768;
+
+class Rasterizer {
+ public:
+  Rasterizer(ThreadPool& pool, RasterConfig config = {});
+  // Renders `draws` in order into `fb` (which the caller cleared). Not re-entrant.
+  RasterStats draw(Framebuffer& fb, std::span<const DrawCall> draws);
+  const RasterConfig& config() const { return config_; }
+
+ private:
+  struct Impl;
+  ThreadPool& pool_;
+  RasterConfig config_;
+};
+
+// The vertex stage for position-only input: clip = mvp * (p, 1).
+void transform_positions(const glm::mat4& mvp, std::span<const glm::vec3> positions,
+                         std::vector<glm::vec4>& clip);
+
+}  // namespace relief

@@ -1,0 +1,101 @@
+// Textures and sampling for the CPU backend.
+//
+// Conventions: texel (0, 0) is the first texel in memory and the top-left of the source image;
+// texture coordinate (u, v) = (0, 0) is that texel's outer corner, (1, 1) the opposite corner, and
+// texel (i, j) has its centre at ((i + 0.5) / w, (j + 0.5) / h). The GL backend uploads the same
+// bytes row 0 first, so texture(uv) addresses the same texel in both backends.
+//
+// Storage keeps the source format (R8 ... R32F) per mip level; fetches decode to linear float
+// (sRGB-encoded 8-bit colour is decoded through a table). LOD follows the OpenGL 4.5 specification
+// (section 8.14): rho = max(|d(uv*size)/dx|, |d(uv*size)/dy|), lod = log2(rho), clamped to
+// [0, levels-1]. Anisotropic filtering takes up to max_aniso trilinear probes along the major axis
+// of the footprint (the EXT_texture_filter_anisotropic model).
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <glm/vec2.hpp>
+#include <glm/vec4.hpp>
+
+namespace relief {
+
+enum class TexFormat : uint8_t { kR8, kRG8, kRGBA8, kR16, kR16F, kRGBA16F, kR32F };
+int format_channels(TexFormat f);
+int format_bytes_per_texel(TexFormat f);
+const char* format_name(TexFormat f);
+
+enum class ColorSpace : uint8_t { kLinear, kSRGB };  // sRGB applies to 8-bit RGB(A) colour only
+enum class Filter : uint8_t { kNearest, kBilinear, kTrilinear, kAnisotropic };
+enum class Wrap : uint8_t { kRepeat, kClamp, kMirror };
+// How a mip level is made from the one above: average (colour, normals), or the minimum or
+// maximum of each 2x2 block (cone maps; max-mips for empty-space skipping).
+enum class MipReduce : uint8_t { kAverage, kMin, kMax };
+
+struct SamplerState {
+  Filter filter = Filter::kTrilinear;
+  Wrap wrap_u = Wrap::kRepeat;
+  Wrap wrap_v = Wrap::kRepeat;
+  int max_aniso = 16;  // 1..16, used by kAnisotropic
+};
+
+struct MipLevel {
+  int width = 0;
+  int height = 0;
+  std::vector<uint8_t> data;  // tightly packed rows, format_bytes_per_texel each
+};
+
+class Texture {
+ public:
+  Texture() = default;
+  // Level 0 from tightly packed texels (copied). Width and height >= 1.
+  Texture(TexFormat format, int width, int height, const void* texels,
+          ColorSpace color_space = ColorSpace::kLinear);
+  // Level 0 from float channels (count = width*height*format_channels), encoded into `format`.
+  static Texture from_floats(TexFormat format, int width, int height, const float* values,
+                             ColorSpace color_space = ColorSpace::kLinear);
+
+  // Replaces levels 1.. with a full chain down to 1x1 (non-power-of-two: floor halving, each
+  // output texel reduces the 2x2 (or 2x1, 1x2) block that covers it).
+  void generate_mips(MipReduce reduce = MipReduce::kAverage);
+
+  TexFormat format() const { return format_; }
+  ColorSpace color_space() const { return color_space_; }
+  int width(int level = 0) const { return levels_[level].width; }
+  int height(int level = 0) const { return levels_[level].height; }
+  int levels() const { return static_cast<int>(levels_.size()); }
+  const MipLevel& level(int i) const { return levels_[i]; }
+  bool empty() const { return levels_.empty(); }
+
+  // Texel at integer coordinates (already wrapped, inside the level), decoded to linear float;
+  // missing channels read as (0, 0, 0, 1) like GL.
+  glm::vec4 fetch(int level, int x, int y) const;
+  // First channel only: the fast path for depth and cone maps.
+  float fetch_r(int level, int x, int y) const;
+
+ private:
+  TexFormat format_ = TexFormat::kRGBA8;
+  ColorSpace color_space_ = ColorSpace::kLinear;
+  std::vector<MipLevel> levels_;
+};
+
+using TexturePtr = std::shared_ptr<const Texture>;
+
+// LOD (before clamping) from screen-space derivatives of uv, as GL computes it.
+float compute_lod(const Texture& t, glm::vec2 duv_dx, glm::vec2 duv_dy);
+
+// textureLod: explicit LOD. The filters are GL's minification modes: kNearest is
+// NEAREST_MIPMAP_NEAREST, kBilinear LINEAR_MIPMAP_NEAREST (level nearest to lod), kTrilinear
+// LINEAR_MIPMAP_LINEAR (blends the two levels around lod). lod <= 0 magnifies level 0 (nearest
+// for kNearest, bilinear otherwise). A texture with one level behaves as one without mipmaps.
+glm::vec4 sample_lod(const Texture& t, const SamplerState& s, glm::vec2 uv, float lod);
+// textureGrad / texture: LOD (and anisotropy) from derivatives.
+glm::vec4 sample_grad(const Texture& t, const SamplerState& s, glm::vec2 uv, glm::vec2 duv_dx,
+                      glm::vec2 duv_dy);
+// First-channel variant of sample_lod with bilinear (or trilinear when lod is fractional and the
+// filter asks for it) filtering: the inner-loop sampler of the relief searches.
+float sample_r_lod(const Texture& t, const SamplerState& s, glm::vec2 uv, float lod);
+
+}  // namespace relief

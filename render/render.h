@@ -1,0 +1,95 @@
+// Planning and executing a frame (DESIGN.md, "One frame, as data", steps 3 to 5).
+//
+// make_plan() turns a Scene and RenderOptions into passes and, per instance, the plugin variant
+// and bound material it draws with, keeping only the effects the scene calls for. A Backend
+// executes a Plan: the CPU backend (render/cpu_backend.cpp) with the tile rasterizer and the C++
+// plugins, the GL backend (gl/) with their GLSL twins. Both read the same prepared vertex data
+// (prepare_draws), the same textures and the same uniforms, and return the same RenderResult.
+#pragma once
+
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "plugins/plugin.h"
+#include "rasterizer/image.h"
+#include "rasterizer/pipeline.h"
+#include "rasterizer/status.h"
+#include "scene/scene.h"
+
+namespace relief {
+
+struct RenderOptions {
+  int width = 800;
+  int height = 600;
+  int threads = 0;           // 0: all cores
+  int tile_size = 64;
+  int camera = 0;            // index into Scene::cameras
+  std::string technique;     // when set, replaces every relief material's technique
+  std::map<std::string, std::string> params;  // key=value overrides of plugin parameters
+  AovMask aovs = 0;
+  bool scalar_lanes = false;  // run kernels one fragment at a time (reference path)
+};
+
+// One material bound to its plugin: parameter values in schema order, textures by slot.
+struct BoundMaterial {
+  const PluginDescriptor* plugin = nullptr;
+  MaterialUniforms uniforms;
+  EffectMask effects = 0;               // requested & supported
+  std::vector<std::string> reasons;     // why each effect is on or off (for --explain)
+  std::vector<TexturePtr> keep_alive;   // textures referenced by uniforms
+  bool double_sided = false;
+};
+
+struct PassPlan {
+  enum class Kind { kShadow, kMain } kind = Kind::kMain;
+  std::string name;
+  std::string reason;
+  int light = -1;  // shadow passes
+};
+
+struct Plan {
+  std::vector<BoundMaterial> materials;  // parallel to Scene::materials
+  std::vector<PassPlan> passes;
+  FrameUniforms frame;                   // main-pass camera and lights
+  std::string explain() const;           // human-readable plan, one line per decision
+};
+
+Result<Plan> make_plan(const Scene& scene, const RenderOptions& options);
+
+// Vertex data of one instance, in the standard varying layout (plugins/plugin.h).
+struct PreparedDraw {
+  int instance = 0;
+  int material = 0;
+  std::vector<glm::vec4> clip;
+  std::vector<float> varyings;  // varying::kCount per vertex
+  const std::vector<uint32_t>* indices = nullptr;
+};
+std::vector<PreparedDraw> prepare_draws(const Scene& scene, const glm::mat4& view_proj);
+
+struct PassStats {
+  std::string name;
+  double ms = 0.0;
+  RasterStats raster;  // CPU backend
+};
+
+struct RenderResult {
+  Framebuffer framebuffer;
+  std::vector<PassStats> passes;
+  double frame_ms = 0.0;
+  std::string device;  // "cpu (N threads)" or the GL renderer string
+};
+
+class Backend {
+ public:
+  virtual ~Backend() = default;
+  virtual std::string name() const = 0;
+  virtual Result<RenderResult> render(const Scene& scene, const Plan& plan,
+                                      const RenderOptions& options) = 0;
+};
+
+// The CPU backend keeps its thread pool between frames.
+std::unique_ptr<Backend> make_cpu_backend(int threads);
+
+}  // namespace relief

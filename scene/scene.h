@@ -1,0 +1,102 @@
+// The scene model (DESIGN.md, "One frame, as data"): meshes, materials, instances, lights and
+// cameras, in world units with y up and right-handed coordinates (glTF's convention).
+#pragma once
+
+#include <map>
+#include <string>
+#include <vector>
+
+#include <glm/mat4x4.hpp>
+#include <glm/vec2.hpp>
+#include <glm/vec3.hpp>
+#include <glm/vec4.hpp>
+
+#include "plugins/plugin.h"
+#include "rasterizer/texture.h"
+
+namespace relief {
+
+struct Mesh {
+  std::string name;
+  std::vector<glm::vec3> positions;
+  std::vector<glm::vec3> normals;
+  std::vector<glm::vec2> uvs;
+  std::vector<glm::vec4> tangents;    // xyz tangent, w bitangent sign (B = w * cross(N, T))
+  std::vector<glm::vec2> quadric;     // per-vertex (a, b); empty unless a material needs it
+  std::vector<glm::vec2> tile_scale;  // per-vertex (sx, sy); empty unless a material needs it
+  std::vector<uint32_t> indices;      // triangles
+};
+
+struct Material {
+  std::string name;
+  std::string technique = "normal";          // plugin name
+  std::map<std::string, float> params;       // by schema name; missing ones take defaults
+  std::map<std::string, TexturePtr> textures;  // by slot name ("base_color", "depth", ...)
+  glm::vec4 base_color{1.0f};
+  glm::vec2 uv_scale{1.0f};                  // tiling (KHR_texture_transform scale)
+  glm::vec2 uv_offset{0.0f};
+  SamplerState sampler;
+  float specular = 0.25f;
+  float shininess = 32.0f;
+  bool double_sided = false;
+  // Effects the material asks for; the planner keeps those its plugin supports.
+  bool self_shadow = false;
+  bool depth_write = false;
+  bool silhouette = false;
+  bool casts_shadow = true;
+  bool receives_shadow = true;
+};
+
+struct Instance {
+  int mesh = 0;
+  int material = 0;
+  glm::mat4 transform{1.0f};  // object -> world
+};
+
+struct Light {
+  std::string name;
+  LightType type = LightType::kDirectional;
+  glm::vec3 position{0.0f};
+  glm::vec3 direction{0.0f, -1.0f, 0.0f};  // direction light travels
+  glm::vec3 color{1.0f};
+  float intensity = 1.0f;
+  float range = 0.0f;
+  float inner_cone_deg = 20.0f;
+  float outer_cone_deg = 30.0f;
+  bool casts_shadows = false;
+  int shadow_resolution = 1024;
+};
+
+struct Camera {
+  std::string name;
+  glm::vec3 position{0.0f, 0.0f, 3.0f};
+  glm::vec3 target{0.0f};
+  glm::vec3 up{0.0f, 1.0f, 0.0f};
+  float yfov_deg = 45.0f;
+  float znear = 0.05f;
+  float zfar = 100.0f;
+  bool orthographic = false;
+  float ortho_half_height = 1.0f;
+
+  glm::mat4 view() const;
+  // Reversed-Z projection onto [0, 1]: depth 1 at znear, 0 at zfar.
+  glm::mat4 projection(float aspect) const;
+};
+
+struct Scene {
+  std::string name;
+  std::vector<Mesh> meshes;
+  std::vector<Material> materials;
+  std::vector<Instance> instances;
+  std::vector<Light> lights;
+  std::vector<Camera> cameras;
+  glm::vec3 ambient{0.03f};
+  glm::vec4 background{0.0f, 0.0f, 0.0f, 1.0f};
+};
+
+// Reversed-Z perspective and orthographic matrices (clip z = w at near, 0 at far).
+glm::mat4 perspective_reversed_z(float yfov_rad, float aspect, float znear, float zfar);
+glm::mat4 ortho_reversed_z(float left, float right, float bottom, float top, float znear,
+                           float zfar);
+
+}  // namespace relief
