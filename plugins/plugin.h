@@ -108,6 +108,7 @@ struct FrameUniforms {
   LightUniform lights[kMaxLights];
   int num_lights = 0;
   AovMask aovs = 0;                 // AOVs the pass writes
+  bool scalar_lanes = false;        // kernels one fragment at a time (reference path)
   int width = 0, height = 0;
 };
 

@@ -13,6 +13,7 @@
 #pragma once
 
 #include <cstdint>
+#include <memory>
 #include <span>
 #include <vector>
 
@@ -77,6 +78,7 @@ inline constexpr int kGuardBand = 32768;
 class Rasterizer {
  public:
   Rasterizer(ThreadPool& pool, RasterConfig config = {});
+  ~Rasterizer();
   // Renders `draws` in order into `fb` (which the caller cleared). Not re-entrant.
   RasterStats draw(Framebuffer& fb, std::span<const DrawCall> draws);
   const RasterConfig& config() const { return config_; }
@@ -85,6 +87,7 @@ class Rasterizer {
   struct Impl;
   ThreadPool& pool_;
   RasterConfig config_;
+  std::unique_ptr<Impl> impl_;  // frame buffers reused between frames
 };
 
 // The vertex stage for position-only input: clip = mvp * (p, 1).

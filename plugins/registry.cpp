@@ -1,0 +1,184 @@
+#include "plugins/registry.h"
+
+#include <dlfcn.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <cstring>
+#include <sstream>
+
+namespace relief {
+
+void register_builtin_plugins(PluginRegistry& r);
+
+PluginRegistry& PluginRegistry::global() {
+  static PluginRegistry* registry = [] {
+    auto* r = new PluginRegistry();
+    register_builtin_plugins(*r);
+    return r;
+  }();
+  return *registry;
+}
+
+const PluginDescriptor* PluginRegistry::find(const std::string& name) const {
+  auto it = plugins_.find(name);
+  return it == plugins_.end() ? nullptr : it->second;
+}
+
+std::vector<const PluginDescriptor*> PluginRegistry::all() const {
+  std::vector<const PluginDescriptor*> out;
+  for (const auto& [name, p] : plugins_) out.push_back(p);
+  return out;
+}
+
+Status PluginRegistry::add(const PluginDescriptor* p) {
+  if (p == nullptr) return Status::error("plugin descriptor is null");
+  if (p->abi_version != kPluginAbiVersion)
+    return Status::error("plugin ABI version " + std::to_string(p->abi_version) + ", expected " +
+                         std::to_string(kPluginAbiVersion));
+  if (p->name == nullptr || p->name[0] == '\0') return Status::error("plugin has no name");
+  if (p->select == nullptr || p->depth_output == nullptr)
+    return Status::error(std::string("plugin '") + p->name + "' has no select/depth_output entry");
+  if (p->num_params < 0 || p->num_params > kMaxParams || (p->num_params > 0 && !p->params))
+    return Status::error(std::string("plugin '") + p->name + "' has a malformed parameter schema");
+  if (p->num_textures < 0 || p->num_textures > kMaxTextureSlots ||
+      (p->num_textures > 0 && !p->textures))
+    return Status::error(std::string("plugin '") + p->name + "' has malformed texture slots");
+  if (plugins_.count(p->name))
+    return Status::error(std::string("a plugin named '") + p->name + "' is already registered");
+  plugins_[p->name] = p;
+  return {};
+}
+
+Status PluginRegistry::load(const std::string& path) {
+  void* handle = dlopen(path.c_str(), RTLD_NOW | RTLD_LOCAL);
+  if (!handle) {
+    const char* err = dlerror();
+    return Status::error(path + ": cannot load plugin: " + (err ? err : "unknown error"));
+  }
+  using Entry = const PluginDescriptor* (*)();
+  auto entry = reinterpret_cast<Entry>(dlsym(handle, "relief_plugin_entry"));
+  if (!entry) {
+    dlclose(handle);
+    return Status::error(path + ": not a relief plugin (no relief_plugin_entry symbol)");
+  }
+  // The handle stays open for the life of the process: descriptors point into it.
+  return add(entry()).with_context(path);
+}
+
+int param_index(const PluginDescriptor& plugin, const char* name) {
+  for (int i = 0; i < plugin.num_params; ++i)
+    if (std::strcmp(plugin.params[i].name, name) == 0) return i;
+  return -1;
+}
+
+namespace {
+
+std::vector<std::string> split_choices(const char* choices) {
+  std::vector<std::string> out;
+  if (!choices) return out;
+  std::stringstream ss(choices);
+  std::string item;
+  while (std::getline(ss, item, '|')) out.push_back(item);
+  return out;
+}
+
+std::string range_text(const ParamSpec& p) {
+  std::ostringstream os;
+  switch (p.type) {
+    case ParamType::kBool: return "true|false";
+    case ParamType::kEnum: return p.choices ? p.choices : "";
+    case ParamType::kInt: os << static_cast<long>(p.min_value) << ".." << static_cast<long>(p.max_value); break;
+    case ParamType::kFloat: os << p.min_value << ".." << p.max_value; break;
+  }
+  return os.str();
+}
+
+Status check_value(const PluginDescriptor& plugin, const ParamSpec& p, float v) {
+  const std::string where = std::string(plugin.name) + " parameter '" + p.name + "'";
+  if (!std::isfinite(v)) return Status::error(where + ": value must be finite");
+  if (p.type == ParamType::kInt && v != std::floor(v))
+    return Status::error(where + ": expected an integer in " + range_text(p));
+  if ((p.type == ParamType::kInt || p.type == ParamType::kFloat) &&
+      (v < p.min_value || v > p.max_value)) {
+    std::ostringstream os;
+    os << where << ": " << v << " is outside " << range_text(p);
+    return Status::error(os.str());
+  }
+  return {};
+}
+
+Result<float> parse_value(const PluginDescriptor& plugin, const ParamSpec& p,
+                          const std::string& text) {
+  const std::string where = std::string(plugin.name) + " parameter '" + p.name + "'";
+  if (p.type == ParamType::kBool) {
+    if (text == "true" || text == "1" || text == "on") return 1.0f;
+    if (text == "false" || text == "0" || text == "off") return 0.0f;
+    return Status::usage(where + ": expected true or false, got '" + text + "'");
+  }
+  if (p.type == ParamType::kEnum) {
+    const auto choices = split_choices(p.choices);
+    for (size_t i = 0; i < choices.size(); ++i)
+      if (choices[i] == text) return static_cast<float>(i);
+    return Status::usage(where + ": expected one of " + range_text(p) + ", got '" + text + "'");
+  }
+  char* end = nullptr;
+  errno = 0;
+  const double v = std::strtod(text.c_str(), &end);
+  if (text.empty() || end != text.c_str() + text.size() || errno == ERANGE)
+    return Status::usage(where + ": expected a number, got '" + text + "'");
+  Status s = check_value(plugin, p, static_cast<float>(v));
+  if (!s.ok()) return Status::usage(s.message());
+  return static_cast<float>(v);
+}
+
+}  // namespace
+
+Result<std::vector<float>> resolve_params(const PluginDescriptor& plugin,
+                                          const std::map<std::string, float>& overrides,
+                                          const std::map<std::string, std::string>& text) {
+  std::vector<float> values(plugin.num_params);
+  for (int i = 0; i < plugin.num_params; ++i) values[i] = plugin.params[i].default_value;
+  for (const auto& [name, v] : overrides) {
+    const int i = param_index(plugin, name.c_str());
+    if (i < 0)
+      return Status::error(std::string(plugin.name) + " has no parameter '" + name + "'");
+    RELIEF_RETURN_IF_ERROR(check_value(plugin, plugin.params[i], v));
+    values[i] = v;
+  }
+  for (const auto& [name, t] : text) {
+    const int i = param_index(plugin, name.c_str());
+    if (i < 0)
+      return Status::usage(std::string(plugin.name) + " has no parameter '" + name +
+                           "' (see `relief techniques`)");
+    Result<float> v = parse_value(plugin, plugin.params[i], t);
+    if (!v.ok()) return v.status();
+    values[i] = *v;
+  }
+  return values;
+}
+
+std::string describe_params(const PluginDescriptor& plugin) {
+  std::ostringstream os;
+  for (int i = 0; i < plugin.num_params; ++i) {
+    const ParamSpec& p = plugin.params[i];
+    os << "    " << p.name << " = ";
+    if (p.type == ParamType::kEnum) {
+      const auto c = split_choices(p.choices);
+      const size_t d = static_cast<size_t>(p.default_value);
+      os << (d < c.size() ? c[d] : "?");
+    } else if (p.type == ParamType::kBool) {
+      os << (p.default_value != 0.0f ? "true" : "false");
+    } else {
+      os << p.default_value;
+    }
+    const char* type = p.type == ParamType::kFloat ? "float"
+                       : p.type == ParamType::kInt ? "int"
+                       : p.type == ParamType::kBool ? "bool"
+                                                    : "enum";
+    os << "  (" << type << ", " << range_text(p) << ")  " << (p.help ? p.help : "") << "\n";
+  }
+  return os.str();
+}
+
+}  // namespace relief

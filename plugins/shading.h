@@ -1,0 +1,142 @@
+// The glue between the packet ABI (rasterizer/fragment.h) and kernels written over a lane type.
+//
+// A plugin defines a Kernel with
+//   template <class F> static ShadeOut<F> shade(const ShadeContext&, const FragIn<F>&);
+// and exposes shade_packet<Kernel> as its ShadeFn. shade_packet walks the packet eight lanes (two
+// quads) at a time with F8, or one lane at a time with float when FrameUniforms::scalar_lanes is
+// set, loads the standard varyings (plugins/plugin.h, namespace varying), hands the kernel the
+// per-quad uv derivatives (dFdx/dFdy, coarse), stores colour, depth, discards and AOVs, and adds
+// the kernel's per-lane work counts for covered lanes only.
+#pragma once
+
+#include "plugins/plugin.h"
+#include "shaders_cpp/frame.h"
+#include "shaders_cpp/sampling.h"
+
+namespace relief {
+
+template <class F> struct FragIn {
+  int lane0;                 // first packet lane of this group
+  const FragmentPacket* packet;
+  V3<F> position;            // world
+  V3<F> normal;              // world, interpolated (not unit)
+  V3<F> tangent;             // world, interpolated
+  F tangent_sign;
+  V2<F> uv;
+  V2<F> duv_dx, duv_dy;      // per quad
+  V2<F> quadric;             // per-vertex quadric (a, b)
+  V2<F> tile_scale;          // texture-tile size (sx, sy)
+  F frag_z;                  // polygon depth (reversed-Z)
+  bool front_facing;
+};
+
+template <class F> struct ShadeOut {
+  V3<F> color{F(0.0f), F(0.0f), F(0.0f)};
+  F alpha = F(1.0f);
+  F depth = F(0.0f);                     // read when the variant writes depth
+  mask_t<F> discard = false_mask<F>();
+  // AOVs
+  V2<F> hit_uv{F(0.0f), F(0.0f)};
+  F hit_depth = F(0.0f);                 // depth-map units [0, 1]
+  F steps = F(0.0f);                     // search steps
+  V3<F> shading_normal{F(0.0f), F(0.0f), F(1.0f)};
+  // work
+  F fetches = F(0.0f);
+  F shadow_steps = F(0.0f);
+};
+
+namespace detail {
+
+template <class F> inline F load_var(const FragmentPacket& p, int k, int lane0) {
+  return load_lanes(&p.varyings[k][lane0], F());
+}
+
+// Per-quad derivative of varying k, broadcast to the quad's lanes.
+template <class F> inline F ddx(const FragmentPacket& p, int k, int lane0) {
+  return per_lane(F(), [&](int i) {
+    const int q = (lane0 + i) & ~3;
+    return p.varyings[k][q + 1] - p.varyings[k][q];
+  });
+}
+template <class F> inline F ddy(const FragmentPacket& p, int k, int lane0) {
+  return per_lane(F(), [&](int i) {
+    const int q = (lane0 + i) & ~3;
+    return p.varyings[k][q + 2] - p.varyings[k][q];
+  });
+}
+
+template <class F> inline FragIn<F> load_fragment(const FragmentPacket& p, int lane0) {
+  using namespace varying;
+  FragIn<F> f;
+  f.lane0 = lane0;
+  f.packet = &p;
+  f.position = {load_var<F>(p, kPosition, lane0), load_var<F>(p, kPosition + 1, lane0),
+                load_var<F>(p, kPosition + 2, lane0)};
+  f.normal = {load_var<F>(p, kNormal, lane0), load_var<F>(p, kNormal + 1, lane0),
+              load_var<F>(p, kNormal + 2, lane0)};
+  f.tangent = {load_var<F>(p, kTangent, lane0), load_var<F>(p, kTangent + 1, lane0),
+               load_var<F>(p, kTangent + 2, lane0)};
+  f.tangent_sign = load_var<F>(p, kTangent + 3, lane0);
+  f.uv = {load_var<F>(p, kUv, lane0), load_var<F>(p, kUv + 1, lane0)};
+  f.duv_dx = {ddx<F>(p, kUv, lane0), ddx<F>(p, kUv + 1, lane0)};
+  f.duv_dy = {ddy<F>(p, kUv, lane0), ddy<F>(p, kUv + 1, lane0)};
+  if (p.num_varyings >= kCount) {
+    f.quadric = {load_var<F>(p, kQuadric, lane0), load_var<F>(p, kQuadric + 1, lane0)};
+    f.tile_scale = {load_var<F>(p, kTileScale, lane0), load_var<F>(p, kTileScale + 1, lane0)};
+  } else {
+    f.quadric = {F(0.0f), F(0.0f)};
+    f.tile_scale = {F(1.0f), F(1.0f)};
+  }
+  f.frag_z = load_lanes(&p.frag_z[lane0], F());
+  f.front_facing = p.front_facing;
+  return f;
+}
+
+template <class F>
+inline void store_out(const ShadeOut<F>& o, const FragmentPacket& p, int lane0, FragmentOutput& out,
+                      WorkCounters& wc) {
+  store_lanes(&out.color[0][lane0], o.color.x);
+  store_lanes(&out.color[1][lane0], o.color.y);
+  store_lanes(&out.color[2][lane0], o.color.z);
+  store_lanes(&out.color[3][lane0], o.alpha);
+  store_lanes(&out.depth[lane0], o.depth);
+  store_lanes(&out.aov[kAovOffset[0]][lane0], o.hit_uv.x);
+  store_lanes(&out.aov[kAovOffset[0] + 1][lane0], o.hit_uv.y);
+  store_lanes(&out.aov[kAovOffset[1]][lane0], o.hit_depth);
+  store_lanes(&out.aov[kAovOffset[2]][lane0], o.steps);
+  store_lanes(&out.aov[kAovOffset[3]][lane0], o.shading_normal.x);
+  store_lanes(&out.aov[kAovOffset[3] + 1][lane0], o.shading_normal.y);
+  store_lanes(&out.aov[kAovOffset[3] + 2][lane0], o.shading_normal.z);
+  for (int i = 0; i < lane_width<F>; ++i) {
+    const int ln = lane0 + i;
+    const int q = ln >> 2;
+    if (q >= p.num_quads) break;
+    if (lane(o.discard, i)) out.discard[q] |= uint8_t(1u << (ln & 3));
+    if (!p.lane_covered(ln)) continue;
+    wc.texture_fetches += static_cast<uint64_t>(lane(o.fetches, i));
+    wc.search_steps += static_cast<uint64_t>(lane(o.steps, i));
+    wc.shadow_steps += static_cast<uint64_t>(lane(o.shadow_steps, i));
+  }
+}
+
+}  // namespace detail
+
+template <class Kernel>
+void shade_packet(const ShadeContext& ctx, const FragmentPacket& in, FragmentOutput& out,
+                  WorkCounters& wc) {
+  const int lanes = in.num_quads * kQuadLanes;
+  if (ctx.frame->scalar_lanes) {
+    for (int l = 0; l < lanes; ++l) {
+      if (!in.coverage[l >> 2]) continue;
+      const FragIn<float> f = detail::load_fragment<float>(in, l);
+      detail::store_out(Kernel::template shade<float>(ctx, f), in, l, out, wc);
+    }
+    return;
+  }
+  for (int l = 0; l < lanes; l += 8) {
+    const FragIn<F8> f = detail::load_fragment<F8>(in, l);
+    detail::store_out(Kernel::template shade<F8>(ctx, f), in, l, out, wc);
+  }
+}
+
+}  // namespace relief

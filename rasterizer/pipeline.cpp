@@ -1,0 +1,451 @@
+#include "rasterizer/pipeline.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstring>
+
+#include "rasterizer/check.h"
+
+namespace relief {
+namespace {
+
+constexpr int kSubBits = 8;
+constexpr int64_t kSubOne = 1 << kSubBits;
+constexpr int64_t kHalf = kSubOne / 2;
+
+// A vertex after clipping: clip position and varyings, stored by the draw's vertex arena.
+struct ClipVertex {
+  glm::vec4 clip;
+  const float* vary;
+};
+
+// A vertex after the perspective divide and viewport: what setup needs.
+struct ScreenVertex {
+  int32_t x, y;     // fixed point, 8 sub-pixel bits
+  float z;          // NDC depth, reversed-Z
+  float iw;         // 1 / w
+  uint32_t vary;    // offset of the premultiplied (v / w) varyings in the frame's arena
+};
+
+struct SetupTriangle {
+  int draw;
+  bool front_facing;
+  int x0, y0, x1, y1;          // pixel bounding box, inclusive, inside the viewport
+  int64_t a[3], b[3], c[3];    // edge functions E = a*px + b*py + c in fixed point
+  int64_t bias[3];             // 0 for top-left edges, -1 otherwise
+  double inv_area;
+  float z[3], iw[3];
+  uint32_t vary[3];
+};
+
+// Outcode bits against the clip volume (near, far) and the guard band.
+enum : uint32_t {
+  kOutNear = 1, kOutFar = 2, kOutGuardL = 4, kOutGuardR = 8, kOutGuardT = 16, kOutGuardB = 32,
+  kOutViewL = 64, kOutViewR = 128, kOutViewT = 256, kOutViewB = 512,
+};
+constexpr uint32_t kNeedsClip = kOutNear | kOutFar | kOutGuardL | kOutGuardR | kOutGuardT | kOutGuardB;
+
+bool finite4(const glm::vec4& v) {
+  return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z) && std::isfinite(v.w);
+}
+
+}  // namespace
+
+struct Rasterizer::Impl {
+  // Frame state, reused between frames so steady state does not allocate.
+  std::vector<SetupTriangle> tris;
+  std::vector<float> vary;                 // premultiplied varyings of every screen vertex
+  std::vector<std::vector<uint32_t>> bins; // triangle indices per tile, submission order
+  std::vector<float> clip_arena;           // varyings of vertices made by the clipper
+  struct Worker {
+    FragmentPacket packet;
+    FragmentOutput out;
+    int16_t qx[kPacketQuads], qy[kPacketQuads];
+    WorkCounters counters;
+    uint64_t quads = 0;
+  };
+  std::vector<std::unique_ptr<Worker>> workers;
+  RasterStats stats;
+  int width = 0, height = 0, tiles_x = 0, tiles_y = 0, tile = 64;
+  float gx = 1.0f, gy = 1.0f;  // guard band in NDC units
+
+  uint32_t outcode(const glm::vec4& c) const {
+    uint32_t o = 0;
+    if (c.z > c.w) o |= kOutNear;
+    if (c.z < 0.0f) o |= kOutFar;
+    if (c.x < -gx * c.w) o |= kOutGuardL;
+    if (c.x > gx * c.w) o |= kOutGuardR;
+    if (c.y > gy * c.w) o |= kOutGuardT;
+    if (c.y < -gy * c.w) o |= kOutGuardB;
+    if (c.x < -c.w) o |= kOutViewL;
+    if (c.x > c.w) o |= kOutViewR;
+    if (c.y > c.w) o |= kOutViewT;
+    if (c.y < -c.w) o |= kOutViewB;
+    return o;
+  }
+
+  // Signed distance to clip plane p (>= 0 inside).
+  float plane_distance(int p, const glm::vec4& c) const {
+    switch (p) {
+      case 0: return c.w - c.z;        // near
+      case 1: return c.z;              // far
+      case 2: return c.x + gx * c.w;   // guard left
+      case 3: return gx * c.w - c.x;   // guard right
+      case 4: return gy * c.w - c.y;   // guard top
+      default: return c.y + gy * c.w;  // guard bottom
+    }
+  }
+
+  bool to_screen(const glm::vec4& c, const float* v, int nv, ScreenVertex& s) {
+    if (!(c.w > 0.0f)) return false;
+    const double iw = 1.0 / static_cast<double>(c.w);
+    const double sx = (c.x * iw * 0.5 + 0.5) * width;
+    const double sy = (0.5 - c.y * iw * 0.5) * height;
+    s.x = static_cast<int32_t>(std::lround(sx * kSubOne));
+    s.y = static_cast<int32_t>(std::lround(sy * kSubOne));
+    s.z = std::clamp(static_cast<float>(c.z * iw), 0.0f, 1.0f);
+    s.iw = static_cast<float>(iw);
+    s.vary = static_cast<uint32_t>(vary.size());
+    for (int k = 0; k < nv; ++k) vary.push_back(v[k] * s.iw);
+    return true;
+  }
+
+  void setup(int draw, const DrawCall& dc, ScreenVertex v0, ScreenVertex v1, ScreenVertex v2) {
+    int64_t area = int64_t(v1.x - v0.x) * (v2.y - v0.y) - int64_t(v1.y - v0.y) * (v2.x - v0.x);
+    if (area == 0) {
+      ++stats.triangles_culled;
+      return;
+    }
+    const bool front = area > 0;  // counter-clockwise in NDC (y up) is clockwise on screen
+    if ((dc.cull == CullMode::kBack && !front) || (dc.cull == CullMode::kFront && front)) {
+      ++stats.triangles_culled;
+      return;
+    }
+    if (!front) {
+      std::swap(v1, v2);
+      area = -area;
+    }
+    SetupTriangle t;
+    t.draw = draw;
+    t.front_facing = front;
+    const ScreenVertex* v[3] = {&v0, &v1, &v2};
+    const int64_t minx = std::min({v0.x, v1.x, v2.x}), maxx = std::max({v0.x, v1.x, v2.x});
+    const int64_t miny = std::min({v0.y, v1.y, v2.y}), maxy = std::max({v0.y, v1.y, v2.y});
+    // Pixels whose centre (x * 256 + 128) lies in the box.
+    auto ceil_div = [](int64_t a, int64_t b) { return a >= 0 ? (a + b - 1) / b : -((-a) / b); };
+    auto floor_div = [](int64_t a, int64_t b) { return a >= 0 ? a / b : -((-a + b - 1) / b); };
+    t.x0 = static_cast<int>(std::max<int64_t>(0, ceil_div(minx - kHalf, kSubOne)));
+    t.y0 = static_cast<int>(std::max<int64_t>(0, ceil_div(miny - kHalf, kSubOne)));
+    t.x1 = static_cast<int>(std::min<int64_t>(width - 1, floor_div(maxx - kHalf, kSubOne)));
+    t.y1 = static_cast<int>(std::min<int64_t>(height - 1, floor_div(maxy - kHalf, kSubOne)));
+    if (t.x0 > t.x1 || t.y0 > t.y1) {
+      ++stats.triangles_culled;
+      return;
+    }
+    for (int e = 0; e < 3; ++e) {
+      // Edge e runs from vertex e+1 to e+2 and weighs vertex e.
+      const ScreenVertex& a = *v[(e + 1) % 3];
+      const ScreenVertex& b = *v[(e + 2) % 3];
+      t.a[e] = int64_t(a.y) - b.y;
+      t.b[e] = int64_t(b.x) - a.x;
+      t.c[e] = -t.a[e] * a.x - t.b[e] * a.y;
+      // Top edge: horizontal with the interior below (y grows down); left edge: going up.
+      const bool top_left = (a.y == b.y && b.x > a.x) || (b.y < a.y);
+      t.bias[e] = top_left ? 0 : -1;
+    }
+    t.inv_area = 1.0 / static_cast<double>(area);
+    for (int i = 0; i < 3; ++i) {
+      t.z[i] = v[i]->z;
+      t.iw[i] = v[i]->iw;
+      t.vary[i] = v[i]->vary;
+    }
+    tris.push_back(t);
+  }
+
+  // Sutherland-Hodgman in homogeneous space against the planes in `mask`, then a fan.
+  void clip_and_setup(int draw, const DrawCall& dc, const ClipVertex in[3], uint32_t planes) {
+    const int nv = dc.num_varyings;
+    struct Poly {
+      glm::vec4 c[9];
+      int arena[9];  // offset in clip_arena of the varyings
+      int n = 0;
+    } a, b;
+    for (int i = 0; i < 3; ++i) {
+      a.c[i] = in[i].clip;
+      a.arena[i] = static_cast<int>(clip_arena.size());
+      clip_arena.insert(clip_arena.end(), in[i].vary, in[i].vary + nv);
+    }
+    a.n = 3;
+    for (int p = 0; p < 6 && a.n >= 3; ++p) {
+      if (!(planes & (1u << p))) continue;
+      b.n = 0;
+      for (int i = 0; i < a.n; ++i) {
+        const int j = (i + 1) % a.n;
+        const float di = plane_distance(p, a.c[i]);
+        const float dj = plane_distance(p, a.c[j]);
+        if (di >= 0.0f) {
+          b.c[b.n] = a.c[i];
+          b.arena[b.n++] = a.arena[i];
+        }
+        if ((di >= 0.0f) != (dj >= 0.0f)) {
+          const float t = di / (di - dj);
+          b.c[b.n] = a.c[i] + (a.c[j] - a.c[i]) * t;
+          const int off = static_cast<int>(clip_arena.size());
+          clip_arena.resize(clip_arena.size() + nv);
+          for (int k = 0; k < nv; ++k) {
+            const float vi = clip_arena[a.arena[i] + k], vj = clip_arena[a.arena[j] + k];
+            clip_arena[off + k] = vi + (vj - vi) * t;
+          }
+          b.arena[b.n++] = off;
+        }
+      }
+      a = b;
+    }
+    if (a.n < 3) {
+      ++stats.triangles_culled;
+      return;
+    }
+    ScreenVertex s[9];
+    for (int i = 0; i < a.n; ++i)
+      if (!to_screen(a.c[i], &clip_arena[a.arena[i]], nv, s[i])) {
+        ++stats.triangles_culled;
+        return;
+      }
+    for (int i = 1; i + 1 < a.n; ++i) setup(draw, dc, s[0], s[i], s[i + 1]);
+  }
+
+  void setup_draw(int draw, const DrawCall& dc) {
+    CHECK_LE(dc.num_varyings, kMaxVaryings);
+    CHECK(dc.shader != nullptr);
+    const size_t nvert = dc.clip.size();
+    const int nv = dc.num_varyings;
+    CHECK_GE(dc.varyings.size(), nvert * nv);
+    // Per-vertex outcodes and screen vertices, computed once per vertex.
+    std::vector<uint32_t> codes(nvert);
+    std::vector<ScreenVertex> screen(nvert);
+    std::vector<uint8_t> valid(nvert);
+    for (size_t i = 0; i < nvert; ++i) {
+      const glm::vec4& c = dc.clip[i];
+      valid[i] = finite4(c);
+      codes[i] = valid[i] ? outcode(c) : 0;
+      if (valid[i] && !(codes[i] & kNeedsClip))
+        valid[i] = to_screen(c, &dc.varyings[i * nv], nv, screen[i]);
+    }
+    const size_t ntri = dc.indices.size() / 3;
+    for (size_t t = 0; t < ntri; ++t) {
+      ++stats.triangles_in;
+      const uint32_t i0 = dc.indices[3 * t], i1 = dc.indices[3 * t + 1], i2 = dc.indices[3 * t + 2];
+      if (i0 >= nvert || i1 >= nvert || i2 >= nvert || !valid[i0] || !valid[i1] || !valid[i2]) {
+        ++stats.triangles_culled;
+        continue;
+      }
+      const uint32_t all = codes[i0] & codes[i1] & codes[i2];
+      if (all & (kOutNear | kOutFar | kOutViewL | kOutViewR | kOutViewT | kOutViewB)) {
+        ++stats.triangles_culled;  // wholly outside one plane
+        continue;
+      }
+      const uint32_t any = (codes[i0] | codes[i1] | codes[i2]) & kNeedsClip;
+      if (!any) {
+        setup(draw, dc, screen[i0], screen[i1], screen[i2]);
+      } else {
+        ++stats.triangles_clipped;
+        const ClipVertex in[3] = {{dc.clip[i0], &dc.varyings[size_t(i0) * nv]},
+                                  {dc.clip[i1], &dc.varyings[size_t(i1) * nv]},
+                                  {dc.clip[i2], &dc.varyings[size_t(i2) * nv]}};
+        uint32_t planes = 0;
+        for (int p = 0; p < 6; ++p)
+          if (any & (1u << p)) planes |= 1u << p;
+        clip_and_setup(draw, dc, in, planes);
+      }
+    }
+  }
+
+  void bin() {
+    for (auto& b : bins) b.clear();
+    for (uint32_t i = 0; i < tris.size(); ++i) {
+      const SetupTriangle& t = tris[i];
+      const int tx0 = t.x0 / tile, tx1 = t.x1 / tile, ty0 = t.y0 / tile, ty1 = t.y1 / tile;
+      for (int ty = ty0; ty <= ty1; ++ty)
+        for (int tx = tx0; tx <= tx1; ++tx) bins[size_t(ty) * tiles_x + tx].push_back(i);
+    }
+    stats.triangles_binned = tris.size();
+  }
+
+  void flush(Worker& w, Framebuffer& fb, const DrawCall& dc, const SetupTriangle& t) {
+    FragmentPacket& p = w.packet;
+    if (p.num_quads == 0) return;
+    FragmentOutput& o = w.out;
+    std::memset(o.discard, 0, sizeof(o.discard));
+    dc.shader(dc.user, p, o, w.counters);
+    w.quads += p.num_quads;
+    const bool write_aov = dc.aov_write && fb.aov_mask != 0;
+    for (int q = 0; q < p.num_quads; ++q) {
+      const uint8_t live = p.coverage[q] & ~o.discard[q];
+      for (int l = 0; l < 4; ++l) {
+        if (!((p.coverage[q] >> l) & 1)) continue;
+        ++w.counters.fragments;
+        if (!((live >> l) & 1)) {
+          ++w.counters.discarded;
+          continue;
+        }
+        const int lane = q * 4 + l;
+        const int x = w.qx[q] + (l & 1), y = w.qy[q] + (l >> 1);
+        float& stored = fb.depth.at(x, y);
+        float z = p.frag_z[lane];
+        if (dc.depth_test != DepthTest::kEarly) {
+          z = o.depth[lane];
+          if (!(z == z)) {  // NaN depth: the fragment is dropped
+            ++w.counters.discarded;
+            continue;
+          }
+          z = std::clamp(z, 0.0f, 1.0f);
+          if (!(z > stored)) continue;
+        }
+        if (dc.depth_write) stored = z;
+        if (dc.color_write) {
+          glm::vec4 c(o.color[0][lane], o.color[1][lane], o.color[2][lane], o.color[3][lane]);
+          for (int k = 0; k < 4; ++k)
+            if (!std::isfinite(c[k])) c[k] = 0.0f;
+          fb.color.at(x, y) = c;
+        }
+        if (write_aov) {
+          float* a = fb.aov_at(x, y);
+          for (int k = 0; k < kAovTotalChannels; ++k) {
+            const float v = o.aov[k][lane];
+            a[k] = std::isfinite(v) ? v : 0.0f;
+          }
+        }
+      }
+    }
+    p.num_quads = 0;
+  }
+
+  void raster_triangle(Worker& w, Framebuffer& fb, const DrawCall& dc, const SetupTriangle& t,
+                       int tx0, int ty0, int tx1, int ty1) {
+    const int nv = dc.num_varyings;
+    FragmentPacket& p = w.packet;
+    p.num_quads = 0;
+    p.num_varyings = nv;
+    p.front_facing = t.front_facing;
+    const int x0 = std::max(t.x0, tx0) & ~1, y0 = std::max(t.y0, ty0) & ~1;
+    const int x1 = std::min(t.x1, tx1), y1 = std::min(t.y1, ty1);
+    const bool early = dc.depth_test != DepthTest::kLate;
+    const float* va = &vary[t.vary[0]];
+    const float* vb = &vary[t.vary[1]];
+    const float* vc = &vary[t.vary[2]];
+    for (int qy = y0; qy <= y1; qy += 2) {
+      const int64_t py0 = int64_t(qy) * kSubOne + kHalf;
+      for (int qx = x0; qx <= x1; qx += 2) {
+        const int64_t px0 = int64_t(qx) * kSubOne + kHalf;
+        int64_t e[3][4];
+        uint8_t mask = 0xf;
+        for (int k = 0; k < 3; ++k) {
+          const int64_t base = t.a[k] * px0 + t.b[k] * py0 + t.c[k];
+          e[k][0] = base;
+          e[k][1] = base + t.a[k] * kSubOne;
+          e[k][2] = base + t.b[k] * kSubOne;
+          e[k][3] = base + (t.a[k] + t.b[k]) * kSubOne;
+          for (int l = 0; l < 4; ++l)
+            if (e[k][l] + t.bias[k] < 0) mask &= ~(1u << l);
+        }
+        if (qx + 1 >= fb.width) mask &= 0x5;
+        if (qy + 1 >= fb.height) mask &= 0x3;
+        if (!mask) continue;
+        const int q = p.num_quads;
+        const int base_lane = q * 4;
+        for (int l = 0; l < 4; ++l) {
+          const int lane = base_lane + l;
+          const float b0 = static_cast<float>(double(e[0][l]) * t.inv_area);
+          const float b1 = static_cast<float>(double(e[1][l]) * t.inv_area);
+          const float b2 = static_cast<float>(double(e[2][l]) * t.inv_area);
+          const float z = b0 * t.z[0] + b1 * t.z[1] + b2 * t.z[2];
+          float iw = b0 * t.iw[0] + b1 * t.iw[1] + b2 * t.iw[2];
+          iw = std::max(iw, 1e-30f);  // helper lanes far outside may extrapolate past the horizon
+          const float wv = 1.0f / iw;
+          p.frag_x[lane] = static_cast<float>(qx + (l & 1)) + 0.5f;
+          p.frag_y[lane] = static_cast<float>(qy + (l >> 1)) + 0.5f;
+          p.frag_z[lane] = std::clamp(z, 0.0f, 1.0f);
+          p.inv_w[lane] = iw;
+          for (int k = 0; k < nv; ++k)
+            p.varyings[k][lane] = (b0 * va[k] + b1 * vb[k] + b2 * vc[k]) * wv;
+        }
+        if (early) {
+          for (int l = 0; l < 4; ++l) {
+            if (!((mask >> l) & 1)) continue;
+            const int x = qx + (l & 1), y = qy + (l >> 1);
+            if (!(p.frag_z[base_lane + l] > fb.depth.at(x, y))) mask &= ~(1u << l);
+          }
+          if (!mask) continue;
+        }
+        p.coverage[q] = mask;
+        w.qx[q] = static_cast<int16_t>(qx);
+        w.qy[q] = static_cast<int16_t>(qy);
+        if (++p.num_quads == kPacketQuads) flush(w, fb, dc, t);
+      }
+    }
+    flush(w, fb, dc, t);
+  }
+};
+
+Rasterizer::Rasterizer(ThreadPool& pool, RasterConfig config)
+    : pool_(pool), config_(config), impl_(std::make_unique<Impl>()) {
+  CHECK(config_.tile_size >= 8 && config_.tile_size <= 512 && config_.tile_size % 2 == 0);
+}
+
+Rasterizer::~Rasterizer() = default;
+
+RasterStats Rasterizer::draw(Framebuffer& fb, std::span<const DrawCall> draws) {
+  using Clock = std::chrono::steady_clock;
+  const auto t0 = Clock::now();
+  Impl& im = *impl_;
+  im.stats = RasterStats{};
+  im.width = fb.width;
+  im.height = fb.height;
+  CHECK(fb.width > 0 && fb.height > 0 && fb.width <= kMaxTargetSize && fb.height <= kMaxTargetSize);
+  im.tile = config_.tile_size;
+  im.tiles_x = (fb.width + im.tile - 1) / im.tile;
+  im.tiles_y = (fb.height + im.tile - 1) / im.tile;
+  im.gx = 1.0f + 2.0f * kGuardBand / fb.width;
+  im.gy = 1.0f + 2.0f * kGuardBand / fb.height;
+  im.tris.clear();
+  im.vary.clear();
+  im.clip_arena.clear();
+  im.bins.resize(size_t(im.tiles_x) * im.tiles_y);
+  for (size_t d = 0; d < draws.size(); ++d) im.setup_draw(static_cast<int>(d), draws[d]);
+  im.bin();
+  const auto t1 = Clock::now();
+
+  while (static_cast<int>(im.workers.size()) < pool_.size())
+    im.workers.push_back(std::make_unique<Impl::Worker>());
+  for (auto& w : im.workers) {
+    w->counters = WorkCounters{};
+    w->quads = 0;
+  }
+  pool_.run(im.tiles_x * im.tiles_y, [&](int tile, int worker) {
+    Impl::Worker& w = *im.workers[worker];
+    const int tx = tile % im.tiles_x, ty = tile / im.tiles_x;
+    const int x0 = tx * im.tile, y0 = ty * im.tile;
+    const int x1 = std::min(x0 + im.tile, fb.width) - 1, y1 = std::min(y0 + im.tile, fb.height) - 1;
+    for (uint32_t ti : im.bins[tile]) {
+      const SetupTriangle& t = im.tris[ti];
+      im.raster_triangle(w, fb, draws[t.draw], t, x0, y0, x1, y1);
+    }
+  });
+  for (auto& w : im.workers) {
+    im.stats.work += w->counters;
+    im.stats.quads += w->quads;
+  }
+  const auto t2 = Clock::now();
+  im.stats.setup_ms = std::chrono::duration<double, std::milli>(t1 - t0).count();
+  im.stats.raster_ms = std::chrono::duration<double, std::milli>(t2 - t1).count();
+  return im.stats;
+}
+
+void transform_positions(const glm::mat4& mvp, std::span<const glm::vec3> positions,
+                         std::vector<glm::vec4>& clip) {
+  clip.resize(positions.size());
+  for (size_t i = 0; i < positions.size(); ++i) clip[i] = mvp * glm::vec4(positions[i], 1.0f);
+}
+
+}  // namespace relief
