@@ -1,0 +1,45 @@
+// Embeds gl/shaders/* at build time with the assembler's .incbin, reading the files from
+// RELIEF_GL_SHADER_DIR (the source tree's gl/shaders, set by CMake). A new shader file gets one
+// RELIEF_EMBED line here; tests/gl/shader_test.cpp checks that every file on disk is listed.
+// A clean build always embeds the current files; an incremental build re-embeds them when this
+// file is recompiled.
+#include "gl/embedded_shaders.h"
+
+#ifndef RELIEF_GL_SHADER_DIR
+#error "RELIEF_GL_SHADER_DIR must name gl/shaders (set in CMakeLists.txt)"
+#endif
+
+// Defines relief_shader_<sym>_begin/_end around the bytes of <file>.
+#define RELIEF_EMBED(sym, file)                                          \
+  __asm__(".section .rodata\n"                                           \
+          ".global relief_shader_" #sym "_begin\n"                       \
+          ".hidden relief_shader_" #sym "_begin\n"                       \
+          "relief_shader_" #sym "_begin:\n"                              \
+          ".incbin \"" RELIEF_GL_SHADER_DIR "/" file "\"\n"              \
+          ".global relief_shader_" #sym "_end\n"                         \
+          ".hidden relief_shader_" #sym "_end\n"                         \
+          "relief_shader_" #sym "_end:\n"                                \
+          ".previous\n");                                                \
+  extern "C" const char relief_shader_##sym##_begin[];                   \
+  extern "C" const char relief_shader_##sym##_end[];
+
+#define RELIEF_SHADER_LIST(X) \
+  X(relief_vert, "relief.vert")  \
+  X(common_glsl, "common.glsl")  \
+  X(flat_frag, "flat.frag")      \
+  X(normal_frag, "normal.frag")
+
+RELIEF_SHADER_LIST(RELIEF_EMBED)
+
+namespace relief::gl {
+
+const std::vector<EmbeddedShader>& embedded_shaders() {
+#define RELIEF_ENTRY(sym, file)                      \
+  EmbeddedShader{file, relief_shader_##sym##_begin, \
+                 static_cast<size_t>(relief_shader_##sym##_end - relief_shader_##sym##_begin)},
+  static const std::vector<EmbeddedShader> list = {RELIEF_SHADER_LIST(RELIEF_ENTRY)};
+#undef RELIEF_ENTRY
+  return list;
+}
+
+}  // namespace relief::gl

@@ -1,0 +1,242 @@
+// Shared by every GLSL twin: the fragment ABI of plugins/plugin.h and plugins/shading.h, the
+// tangent frame of shaders_cpp/frame.h and the Blinn-Phong lighting of shaders_cpp/lighting.h
+// (Blinn 1977). Each function keeps its C++ name and follows it line by line; change both
+// together.
+//
+// Interface (set by gl/gl_backend.cpp):
+//   uniform FrameUniforms frame        camera and lights of the pass (FrameUniforms)
+//   uniform MaterialUniforms material  params[] in schema order, base colour, specular, shininess
+//   textures[slot], has_texture[slot]  the material's textures by slot index (TextureSlotSpec order)
+//   vary[4]                            the 16 standard varyings (namespace varying)
+// Variant defines (0 or 1): EFFECT_SELF_SHADOW, EFFECT_DEPTH_WRITE, EFFECT_SILHOUETTE,
+// EFFECT_SHADOW_PASS, EFFECT_RECEIVE_SHADOW, RELIEF_WRITES_DEPTH (the variant's DepthOutput is not
+// kNone), RELIEF_AOVS (the pass writes AOVs).
+//
+// Coordinates: gl_FragCoord is redeclared origin_upper_left so x, y match the CPU's (pixel
+// centres, rows top to bottom). GL's window y runs up while image rows run down, so the image-space
+// derivative the CPU calls dFdy is -dFdyCoarse here (load_fragment does it).
+
+layout(origin_upper_left) in vec4 gl_FragCoord;
+
+// ---- plugins/plugin.h ----
+const int kMaxParams = 32;
+const int kMaxTextureSlots = 8;
+const int kMaxLights = 8;
+
+const int kLightDirectional = 0;
+const int kLightPoint = 1;
+const int kLightSpot = 2;
+
+// Standard varying layout.
+const int kPosition = 0;
+const int kNormal = 3;
+const int kTangent = 6;
+const int kUv = 10;
+const int kQuadric = 12;
+const int kTileScale = 14;
+const int kCount = 16;
+
+struct LightUniform {
+  int type;
+  vec3 position;
+  vec3 direction;
+  vec3 color;
+  float range;
+  float inner_cone_cos;
+  float outer_cone_cos;
+};
+
+struct FrameUniforms {
+  mat4 view;
+  mat4 view_proj;
+  vec3 eye;
+  bool orthographic;
+  vec3 view_dir;
+  vec3 ambient;
+  LightUniform lights[kMaxLights];
+  int num_lights;
+  int width;
+  int height;
+};
+
+struct MaterialUniforms {
+  float params[kMaxParams];
+  vec4 base_color;
+  float specular;
+  float shininess;
+};
+
+uniform FrameUniforms frame;
+uniform MaterialUniforms material;
+layout(binding = 0) uniform sampler2D textures[kMaxTextureSlots];
+uniform bool has_texture[kMaxTextureSlots];
+
+in vec4 vary[4];
+
+layout(location = 0) out vec4 out_color;
+layout(location = 1) out vec4 out_aov0;  // uv.xy, hit_depth, steps
+layout(location = 2) out vec4 out_aov1;  // normal.xyz
+
+float varying_at(int k) { return vary[k >> 2][k & 3]; }
+
+// ---- shaders_cpp/vec.h ----
+// Normalises; a zero vector stays zero (no NaN). GLSL's normalize() would return NaN.
+vec3 normalize_safe(vec3 a) {
+  float len2 = dot(a, a);
+  float inv = len2 > 1e-30 ? 1.0 / sqrt(max(len2, 1e-30)) : 0.0;
+  return a * inv;
+}
+
+// ---- plugins/shading.h ----
+struct FragIn {
+  vec3 position;  // world
+  vec3 normal;    // world, interpolated (not unit)
+  vec3 tangent;   // world, interpolated
+  float tangent_sign;
+  vec2 uv;
+  vec2 duv_dx, duv_dy;  // per quad (coarse), image-space rows top to bottom
+  vec2 quadric;
+  vec2 tile_scale;
+  float frag_z;  // polygon depth (reversed-Z)
+  bool front_facing;
+};
+
+struct ShadeOut {
+  vec3 color;
+  float alpha;
+  float depth;  // read when the variant writes depth
+  bool discarded;
+  vec2 hit_uv;
+  float hit_depth;
+  float steps;
+  vec3 shading_normal;
+  float fetches;
+  float shadow_steps;
+};
+
+ShadeOut shade_out_default() {
+  ShadeOut o;
+  o.color = vec3(0.0);
+  o.alpha = 1.0;
+  o.depth = 0.0;
+  o.discarded = false;
+  o.hit_uv = vec2(0.0);
+  o.hit_depth = 0.0;
+  o.steps = 0.0;
+  o.shading_normal = vec3(0.0, 0.0, 1.0);
+  o.fetches = 0.0;
+  o.shadow_steps = 0.0;
+  return o;
+}
+
+FragIn load_fragment() {
+  FragIn f;
+  f.position = vec3(varying_at(kPosition), varying_at(kPosition + 1), varying_at(kPosition + 2));
+  f.normal = vec3(varying_at(kNormal), varying_at(kNormal + 1), varying_at(kNormal + 2));
+  f.tangent = vec3(varying_at(kTangent), varying_at(kTangent + 1), varying_at(kTangent + 2));
+  f.tangent_sign = varying_at(kTangent + 3);
+  f.uv = vec2(varying_at(kUv), varying_at(kUv + 1));
+  f.duv_dx = dFdxCoarse(f.uv);
+  f.duv_dy = -dFdyCoarse(f.uv);
+  f.quadric = vec2(varying_at(kQuadric), varying_at(kQuadric + 1));
+  f.tile_scale = vec2(varying_at(kTileScale), varying_at(kTileScale + 1));
+  f.frag_z = gl_FragCoord.z;
+  f.front_facing = gl_FrontFacing;
+  return f;
+}
+
+void store_out(ShadeOut o) {
+  if (o.discarded) discard;
+  out_color = vec4(o.color, o.alpha);
+#if RELIEF_WRITES_DEPTH
+  gl_FragDepth = o.depth;
+#endif
+#if RELIEF_AOVS
+  out_aov0 = vec4(o.hit_uv, o.hit_depth, o.steps);
+  out_aov1 = vec4(o.shading_normal, 0.0);
+#endif
+}
+
+// ---- shaders_cpp/frame.h ----
+struct TangentFrame {
+  vec3 t, b, n;  // orthonormal; t along +u, b along +v, n out of the surface
+};
+
+vec3 to_tangent(TangentFrame f, vec3 w) { return vec3(dot(w, f.t), dot(w, f.b), dot(w, f.n)); }
+vec3 to_world(TangentFrame f, vec3 v) { return f.t * v.x + f.b * v.y + f.n * v.z; }
+
+// Any unit vector perpendicular to unit n (Duff et al. 2017).
+vec3 any_perpendicular(vec3 n) {
+  float sign_ = n.z >= 0.0 ? 1.0 : -1.0;
+  float a = -1.0 / (sign_ + n.z);
+  float b = n.x * n.y * a;
+  return vec3(1.0 + sign_ * n.x * n.x * a, sign_ * b, -sign_ * n.x);
+}
+
+TangentFrame make_tangent_frame(vec3 normal, vec3 tangent, float sign_) {
+  TangentFrame f;
+  vec3 n = normalize_safe(normal);
+  n = dot(n, n) > 0.5 ? n : vec3(0.0, 0.0, 1.0);
+  vec3 t = tangent - n * dot(n, tangent);
+  float len2 = dot(t, t);
+  bool good = len2 > 1e-12 * max(dot(tangent, tangent), 1e-30);
+  t = good ? normalize_safe(t) : any_perpendicular(n);
+  f.n = n;
+  f.t = t;
+  f.b = cross(n, t) * (sign_ < 0.0 ? -1.0 : 1.0);
+  return f;
+}
+
+// ---- shaders_cpp/lighting.h ----
+struct LightSample {
+  vec3 l;         // unit direction from the point to the light
+  vec3 radiance;  // colour times attenuation
+};
+
+LightSample light_sample(LightUniform light, vec3 p) {
+  LightSample s;
+  vec3 color = light.color;
+  if (light.type == kLightDirectional) {
+    s.l = normalize_safe(-light.direction);
+    s.radiance = color;
+    return s;
+  }
+  vec3 d = light.position - p;
+  float dist2 = max(dot(d, d), 1e-8);
+  s.l = normalize_safe(d);
+  float atten = 1.0 / dist2;
+  if (light.range > 0.0) {
+    float r = dist2 / (light.range * light.range);
+    float window = clamp(1.0 - r * r, 0.0, 1.0);
+    atten = atten * window * window;
+  }
+  if (light.type == kLightSpot) {
+    float cd = dot(normalize_safe(light.direction), -s.l);
+    float span = max(light.inner_cone_cos - light.outer_cone_cos, 1e-4);
+    float k = clamp((cd - light.outer_cone_cos) / span, 0.0, 1.0);
+    atten = atten * k * k;
+  }
+  s.radiance = color * atten;
+  return s;
+}
+
+// The C++ `visibility` functor: each twin defines it (return 1.0 for NoShadow).
+float visibility(int i, vec3 l);
+
+// Shades point p with unit normal n, seen from the eye along unit v (point -> eye).
+vec3 blinn_phong(vec3 p, vec3 n, vec3 v, vec3 albedo) {
+  vec3 c = albedo * frame.ambient;
+  for (int i = 0; i < frame.num_lights; ++i) {
+    LightSample ls = light_sample(frame.lights[i], p);
+    float ndotl = dot(n, ls.l);
+    bool lit = ndotl > 0.0;
+    if (!lit) continue;
+    float vis = visibility(i, ls.l);
+    vec3 h = normalize_safe(ls.l + v);
+    float spec = pow(max(dot(n, h), 0.0), material.shininess) * material.specular;
+    float diffuse = max(ndotl, 0.0);
+    vec3 contrib = (albedo * diffuse + vec3(spec, spec, spec)) * vis;
+    c += ls.radiance * contrib;
+  }
+  return c;
+}

@@ -1,0 +1,42 @@
+#version 450 core
+// `normal`: GLSL twin of plugins/normal.cpp. Tangent-space normal mapping (Blinn 1978,
+// "Simulation of wrinkled surfaces") with Blinn-Phong lighting: the surface keeps its polygonal
+// position, only the normal follows the map.
+#include "common.glsl"
+
+const int kBaseColorSlot = 0;
+const int kNormalSlot = 1;
+
+// Parameters, schema order.
+const int kNormalStrength = 0;
+
+float visibility(int i, vec3 l) { return 1.0; }  // NoShadow
+
+ShadeOut shade(FragIn in_) {
+  ShadeOut o = shade_out_default();
+  vec3 geo_n = in_.normal;
+  if (!in_.front_facing) geo_n = -geo_n;
+  TangentFrame tf = make_tangent_frame(geo_n, in_.tangent, in_.tangent_sign);
+  vec3 n = tf.n;
+  if (has_texture[kNormalSlot]) {
+    vec4 c = textureGrad(textures[kNormalSlot], in_.uv, in_.duv_dx, in_.duv_dy);
+    float strength = material.params[kNormalStrength];
+    vec3 nt = vec3((c.x * 2.0 - 1.0) * strength, (c.y * 2.0 - 1.0) * strength, c.z * 2.0 - 1.0);
+    n = normalize_safe(to_world(tf, nt));
+    o.fetches += 1.0;
+  }
+  vec3 albedo = material.base_color.rgb;
+  if (has_texture[kBaseColorSlot]) {
+    vec4 c = textureGrad(textures[kBaseColorSlot], in_.uv, in_.duv_dx, in_.duv_dy);
+    albedo = albedo * c.xyz;
+    o.fetches += 1.0;
+  }
+  vec3 v = normalize_safe(frame.eye - in_.position);
+  o.color = blinn_phong(in_.position, n, v, albedo);
+  o.alpha = material.base_color.a;
+  o.hit_uv = in_.uv;
+  o.shading_normal = n;
+  return o;
+}
+
+void main() { store_out(shade(load_fragment())); }
