@@ -72,6 +72,7 @@ struct PassStats {
   std::string name;
   double ms = 0.0;
   RasterStats raster;  // CPU backend
+  double gpu_ms = -1.0;  // GL backend: GL_TIME_ELAPSED of the pass (-1: not measured)
 };
 
 struct RenderResult {
@@ -79,6 +80,11 @@ struct RenderResult {
   std::vector<PassStats> passes;
   double frame_ms = 0.0;
   std::string device;  // "cpu (N threads)" or the GL renderer string
+  // GL backend, parts of frame_ms: shader compile and link (non-zero on the first frame of a
+  // variant, zero in steady state), texture and vertex uploads, and reading the images back.
+  double compile_ms = 0.0;
+  double upload_ms = 0.0;
+  double readback_ms = 0.0;
 };
 
 class Backend {
