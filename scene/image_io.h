@@ -1,0 +1,54 @@
+// Image and texture files through OpenImageIO (which stays out of rasterizer/ headers).
+//
+// Row 0 of a file is texel / pixel row 0 (top of the image), matching texture.h and image.h.
+// Colour conventions: 8-bit integer files (PNG, JPEG, 8-bit TIFF) hold sRGB-encoded colour and
+// linear alpha; 16-bit integer and float files (16-bit PNG/TIFF, EXR) hold linear values.
+// Every error is one line that starts with the path and says what was wrong.
+#pragma once
+
+#include <string>
+
+#include "rasterizer/image.h"
+#include "rasterizer/status.h"
+#include "rasterizer/texture.h"
+
+namespace relief {
+
+// Files larger than this on either side are refused.
+inline constexpr int kMaxImageSide = 16384;
+
+struct TextureLoadOptions {
+  // kSRGB: colour channels are sRGB-encoded and decode to linear when sampled (8-bit formats keep
+  // the bytes and decode through the texture's table; 16-bit and float sources are decoded at
+  // load). Must be kLinear with height_to_depth.
+  ColorSpace color_space = ColorSpace::kLinear;
+  // Keep only channel 0 (R8, R16, R16F or R32F), whatever the file holds.
+  bool first_channel_only = false;
+  // The file holds a height map (1 = top): store depth d = 1 - h in channel 0 (exact for integer
+  // formats: 255 - b, 65535 - v). Other channels are left alone.
+  bool height_to_depth = false;
+};
+
+// Loads level 0 of a texture (no mips; call generate_mips). The format follows the file:
+//   8-bit:        1 channel R8, 2 RG8, 3 RGBA8 (alpha 1), 4+ RGBA8 (first four)
+//   16-bit int:   1 channel R16, otherwise RGBA16F (missing channels 0, alpha 1)
+//   half / float: 1 channel R16F (half) or R32F (float or wider), otherwise RGBA16F
+// first_channel_only forces the one-channel format of the file's depth.
+Result<Texture> load_texture(const std::string& path, const TextureLoadOptions& opts = {});
+
+// Reads an image as linear float RGBA (1 channel: grey, alpha 1; 2: grey + alpha; 3: alpha 1).
+// 8-bit files are decoded from sRGB (alpha stays linear). Non-finite values read as 0.
+Result<Image> read_image(const std::string& path);
+
+// Writes by extension: .png 8-bit sRGB-encoded, .exr float linear, .tif/.tiff 16-bit linear.
+// Integer formats clamp to [0, 1]; RGB when every alpha is 1, RGBA otherwise (EXR: always RGBA).
+// NaN or Inf pixels are written as 0. The write is atomic: a temporary file in the same
+// directory is renamed over `path`; on failure nothing is left behind.
+Status write_image(const std::string& path, const Image& image);
+
+// One-channel float plane (depth, steps, ...): .exr and .tif/.tiff as 32-bit float (channel "Y");
+// .png as 16-bit grey normalised by the range [min(0, lowest), max(1, highest)], so values in
+// [0, 1] are stored as they are. Atomic like write_image; non-finite values are written as 0.
+Status write_plane(const std::string& path, const Plane& plane);
+
+}  // namespace relief
