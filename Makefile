@@ -19,7 +19,7 @@ build: $(BUILD)/CMakeCache.txt
 demo: deps
 	@$(MAKE) --no-print-directory build
 	@mkdir -p out
-	@$(BUILD)/bin/relief render -o out/demo.png --report-time
+	@$(BUILD)/bin/relief render -o out/demo.png 
 
 test: deps
 	@$(MAKE) --no-print-directory build

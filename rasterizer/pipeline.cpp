@@ -117,12 +117,12 @@ struct Rasterizer::Impl {
       ++stats.triangles_culled;
       return;
     }
-    const bool front = area > 0;  // counter-clockwise in NDC (y up) is clockwise on screen
+    const bool front = area < 0;  // counter-clockwise in NDC (y up) has negative area in y-down
     if ((dc.cull == CullMode::kBack && !front) || (dc.cull == CullMode::kFront && front)) {
       ++stats.triangles_culled;
       return;
     }
-    if (!front) {
+    if (area < 0) {  // edge functions below assume positive area
       std::swap(v1, v2);
       area = -area;
     }

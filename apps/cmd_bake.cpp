@@ -1,0 +1,198 @@
+// `relief bake`: normal maps and cone maps from a depth (or height) image.
+//   relief bake DEPTH_IMAGE -o OUT (--normal | --cone conservative|quad|relaxed) [--height]
+//               [--depth-scale s] [--max-ratio R] [--wrap] [--threads N]
+// Output by extension through scene/image_io.h:
+//   --normal: RGB = n * 0.5 + 0.5 (tangent space, bake/normal_map.h), stored linear: .exr float,
+//             .png / .tif with the bytes of the RGBA8 texture (8-bit PNG readers that keep bytes as
+//             linear, as load_texture does by default, get exactly normal_map_from_depth's texels).
+//   --cone conservative|relaxed: one channel, .exr/.tif 32-bit float, .png 16-bit (ratio * 65535,
+//             rounded down so a stored cone is never wider than the baked one; needs max-ratio <=
+//             1).
+//   --cone quad: RGBA = ratios (+u, -u, +v, -v); .exr float, .png 8-bit (rounded down; <= 1).
+// Errors are one line (relief: ...) with exit 2 for usage and 1 for input; no output is left
+// behind.
+#include <unistd.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <memory>
+#include <string>
+
+#include <glm/vec3.hpp>
+
+#include "apps/commands.h"
+#include "bake/cone_map.h"
+#include "bake/normal_map.h"
+#include "scene/image_io.h"
+
+namespace relief::cli {
+namespace {
+
+struct BakeArgs {
+  std::string input;
+  std::string output;
+  bool normal = false;
+  std::string cone;
+  bool height = false;
+  float depth_scale = 0.1f;
+  float max_ratio = 1.0f;
+  bool wrap = false;
+  int threads = 0;
+};
+
+std::string lower_ext(const std::string& path) {
+  const size_t slash = path.find_last_of('/');
+  const size_t dot = path.find_last_of('.');
+  if (dot == std::string::npos || (slash != std::string::npos && dot < slash)) return "";
+  std::string e = path.substr(dot);
+  std::transform(e.begin(), e.end(), e.begin(), [](unsigned char c) { return std::tolower(c); });
+  return e;
+}
+
+// Value whose sRGB encoding (as write_image does for 8-bit colour) is exactly byte b.
+float srgb_decoded_byte(int b) {
+  const double c = b / 255.0;
+  return static_cast<float>(c <= 0.04045 ? c / 12.92 : std::pow((c + 0.055) / 1.055, 2.4));
+}
+
+// Progress: a bar redrawn on a terminal, nothing until the end otherwise.
+class ProgressBar {
+ public:
+  explicit ProgressBar(std::string label) : label_(std::move(label)), tty_(isatty(2) != 0) {}
+  void update(float f) {
+    if (!tty_) return;
+    const int pct = static_cast<int>(f * 100.0f);
+    if (pct == last_) return;
+    last_ = pct;
+    const int filled = pct * 30 / 100;
+    std::fprintf(stderr, "\r%s [%.*s%*s] %3d%%", label_.c_str(), filled,
+                 "##############################", 30 - filled, "", pct);
+    if (pct >= 100) std::fprintf(stderr, "\n");
+    std::fflush(stderr);
+  }
+
+ private:
+  std::string label_;
+  bool tty_;
+  int last_ = -1;
+};
+
+int run_bake(const BakeArgs& a) {
+  if (a.normal == !a.cone.empty())
+    return fail("bake: choose exactly one of --normal or --cone KIND", 2);
+  if (!(a.depth_scale > 0.0f) || !std::isfinite(a.depth_scale))
+    return fail("bake: --depth-scale must be a positive finite number", 2);
+  if (!(a.max_ratio > 0.0f) || !std::isfinite(a.max_ratio) || a.max_ratio > 65504.0f)
+    return fail("bake: --max-ratio must be positive, finite and at most 65504", 2);
+  if (a.threads < 0) return fail("bake: --threads must be >= 0 (0: all cores)", 2);
+  const std::string ext = lower_ext(a.output);
+  if (ext != ".png" && ext != ".exr" && ext != ".tif" && ext != ".tiff")
+    return fail(a.output + ": unsupported output extension '" + ext +
+                    "', expected .png, .exr, .tif or .tiff",
+                2);
+  if (!a.cone.empty() && a.max_ratio > 1.0f && ext != ".exr")
+    return fail("bake: --max-ratio above 1 needs a float output (.exr); integer images hold [0, 1]",
+                2);
+
+  TextureLoadOptions lo;
+  lo.first_channel_only = true;
+  lo.height_to_depth = a.height;
+  Result<Texture> depth = load_texture(a.input, lo);
+  if (!depth.ok()) return fail(depth.status().message(), depth.status().exit_code());
+  const Texture& d = depth.value();
+  const int w = d.width(0), h = d.height(0);
+  const auto t0 = std::chrono::steady_clock::now();
+  std::string what;
+  Status st;
+
+  if (a.normal) {
+    what = "normal map";
+    Image img(w, h);
+    if (ext == ".exr") {
+      Texture n = normal_map_from_depth_float(d, a.depth_scale, a.wrap);
+      for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+          glm::vec4 v = n.fetch(0, x, y);
+          img.at(x, y) = glm::vec4(glm::vec3(v) * 0.5f + 0.5f, 1.0f);
+        }
+    } else {
+      Texture n = normal_map_from_depth(d, a.depth_scale, a.wrap);
+      const MipLevel& l0 = n.level(0);
+      for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+          const uint8_t* p = &l0.data[(static_cast<size_t>(y) * w + x) * 4];
+          // PNG: the encoder applies sRGB, so hand it values that encode to the texel's bytes.
+          // TIFF is 16-bit linear: the 8-bit values as they are.
+          for (int c = 0; c < 3; ++c)
+            img.at(x, y)[c] = ext == ".png" ? srgb_decoded_byte(p[c]) : p[c] / 255.0f;
+          img.at(x, y).w = 1.0f;
+        }
+    }
+    st = write_image(a.output, img);
+  } else {
+    ConeBakeOptions o;
+    if (a.cone == "conservative")
+      o.kind = ConeKind::kConservative;
+    else if (a.cone == "quad")
+      o.kind = ConeKind::kQuad;
+    else
+      o.kind = ConeKind::kRelaxed;
+    o.max_ratio = a.max_ratio;
+    o.wrap = a.wrap;
+    o.threads = a.threads;
+    what = std::string(cone_kind_name(o.kind)) + " cone map";
+    ProgressBar bar("baking " + what);
+    o.progress = [&bar](float f) { bar.update(f); };
+    ConeRatios r = bake_cone_ratios(d, o);
+    if (r.channels == 1) {
+      Plane p(w, h);
+      for (size_t i = 0; i < p.values.size(); ++i)
+        p.values[i] = ext == ".png" ? std::floor(r.values[i] * 65535.0f) / 65535.0f : r.values[i];
+      st = write_plane(a.output, p);
+    } else {
+      Image img(w, h);
+      for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x)
+          for (int c = 0; c < 4; ++c) {
+            const float v = r.at(x, y, c);
+            if (ext == ".exr") {
+              img.at(x, y)[c] = v;
+            } else if (ext == ".png") {
+              const int b = static_cast<int>(std::floor(v * 255.0f));
+              img.at(x, y)[c] = c < 3 ? srgb_decoded_byte(b) : b / 255.0f;  // alpha is linear
+            } else {
+              img.at(x, y)[c] = std::floor(v * 65535.0f) / 65535.0f;
+            }
+          }
+      st = write_image(a.output, img);
+    }
+  }
+  if (!st.ok()) return fail(st.message(), st.exit_code());
+  const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  std::printf("baked %s %dx%d in %.2f s -> %s\n", what.c_str(), w, h, secs, a.output.c_str());
+  return 0;
+}
+
+}  // namespace
+
+void register_bake(CLI::App& app, Action& action) {
+  auto args = std::make_shared<BakeArgs>();
+  auto* sub = app.add_subcommand("bake", "Bake a normal map or a cone map from a depth image");
+  sub->add_option("depth_image", args->input, "Depth map (0 = top, 1 = deepest); see --height")
+      ->required();
+  sub->add_option("-o,--output", args->output, "Output image (.exr float, .png, .tif)")->required();
+  sub->add_flag("--normal", args->normal, "Bake a tangent-space normal map");
+  sub->add_option("--cone", args->cone, "Bake a cone map: conservative, quad or relaxed")
+      ->check(CLI::IsMember({"conservative", "quad", "relaxed"}));
+  sub->add_flag("--height", args->height, "The input is a height map (1 = top): depth = 1 - h");
+  sub->add_option("--depth-scale", args->depth_scale,
+                  "Relief depth in uv units, for --normal (default 0.1)");
+  sub->add_option("--max-ratio", args->max_ratio, "Clamp cone ratios (default 1)");
+  sub->add_flag("--wrap", args->wrap, "The map tiles (wrap at the borders); default clamp");
+  sub->add_option("--threads", args->threads, "Worker threads (0: all cores)");
+  sub->callback([&action, args] { action = [args] { return run_bake(*args); }; });
+}
+
+}  // namespace relief::cli

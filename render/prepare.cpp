@@ -1,0 +1,52 @@
+// Vertex preparation shared by both backends: world-space varyings in the standard layout.
+#include <glm/geometric.hpp>
+#include <glm/matrix.hpp>
+
+#include "render/render.h"
+
+namespace relief {
+
+std::vector<PreparedDraw> prepare_draws(const Scene& scene, const glm::mat4& view_proj) {
+  std::vector<PreparedDraw> out;
+  out.reserve(scene.instances.size());
+  for (size_t i = 0; i < scene.instances.size(); ++i) {
+    const Instance& inst = scene.instances[i];
+    const Mesh& mesh = scene.meshes[inst.mesh];
+    const Material& mat = scene.materials[inst.material];
+    PreparedDraw d;
+    d.instance = static_cast<int>(i);
+    d.material = inst.material;
+    d.indices = &mesh.indices;
+    const size_t n = mesh.positions.size();
+    d.clip.resize(n);
+    d.varyings.resize(n * varying::kCount);
+    const glm::mat4 model = inst.transform;
+    const glm::mat3 linear(model);
+    const glm::mat3 normal_matrix = glm::transpose(glm::inverse(linear));
+    const float handedness = glm::determinant(linear) < 0.0f ? -1.0f : 1.0f;
+    for (size_t v = 0; v < n; ++v) {
+      const glm::vec4 wp = model * glm::vec4(mesh.positions[v], 1.0f);
+      d.clip[v] = view_proj * wp;
+      float* o = &d.varyings[v * varying::kCount];
+      const glm::vec3 nrm = v < mesh.normals.size() ? normal_matrix * mesh.normals[v] : glm::vec3(0, 0, 1);
+      const glm::vec4 t = v < mesh.tangents.size() ? mesh.tangents[v] : glm::vec4(1, 0, 0, 1);
+      const glm::vec3 wt = linear * glm::vec3(t);
+      const glm::vec2 uv = v < mesh.uvs.size() ? mesh.uvs[v] * mat.uv_scale + mat.uv_offset : glm::vec2(0);
+      const glm::vec2 q = v < mesh.quadric.size() ? mesh.quadric[v] : glm::vec2(0);
+      glm::vec2 ts = v < mesh.tile_scale.size() ? mesh.tile_scale[v] : glm::vec2(1);
+      // World units per (tiled) uv unit along T and B.
+      ts = ts / glm::max(glm::abs(mat.uv_scale), glm::vec2(1e-12f));
+      // Object to world: scale by how much the model matrix stretches T and B.
+      const glm::vec3 on = v < mesh.normals.size() ? mesh.normals[v] : glm::vec3(0, 0, 1);
+      ts *= glm::vec2(glm::length(wt), glm::length(linear * glm::cross(on, glm::vec3(t))));
+      const float vals[varying::kCount] = {wp.x,  wp.y,  wp.z,  nrm.x, nrm.y, nrm.z,
+                                           wt.x,  wt.y,  wt.z,  t.w * handedness,
+                                           uv.x,  uv.y,  q.x,   q.y,   ts.x,  ts.y};
+      for (int k = 0; k < varying::kCount; ++k) o[k] = vals[k];
+    }
+    out.push_back(std::move(d));
+  }
+  return out;
+}
+
+}  // namespace relief
