@@ -1,0 +1,585 @@
+#include "gl/gl_backend.h"
+
+#include <algorithm>
+#include <array>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <map>
+#include <string>
+#include <vector>
+
+#include <epoxy/gl.h>
+
+#include "gl/context.h"
+#include "gl/shader.h"
+
+#ifndef GL_TEXTURE_MAX_ANISOTROPY
+#define GL_TEXTURE_MAX_ANISOTROPY 0x84FE
+#endif
+
+namespace relief {
+
+std::string gl_twin_file(const std::string& plugin_name) { return plugin_name + ".frag"; }
+bool gl_has_twin(const std::string& plugin_name) {
+  return gl::shader_file_exists(gl_twin_file(plugin_name));
+}
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double ms_since(Clock::time_point t) {
+  return std::chrono::duration<double, std::milli>(Clock::now() - t).count();
+}
+
+const char* gl_error_name(GLenum e) {
+  switch (e) {
+    case GL_INVALID_ENUM: return "GL_INVALID_ENUM";
+    case GL_INVALID_VALUE: return "GL_INVALID_VALUE";
+    case GL_INVALID_OPERATION: return "GL_INVALID_OPERATION";
+    case GL_INVALID_FRAMEBUFFER_OPERATION: return "GL_INVALID_FRAMEBUFFER_OPERATION";
+    case GL_OUT_OF_MEMORY: return "GL_OUT_OF_MEMORY";
+    default: return "GL error";
+  }
+}
+
+// First pending GL error as a Status (and drains the rest).
+Status gl_check(const char* where) {
+  GLenum e = glGetError();
+  if (e == GL_NO_ERROR) return {};
+  char buf[160];
+  std::snprintf(buf, sizeof(buf), "gl: %s (0x%04x) during %s", gl_error_name(e), e, where);
+  while (glGetError() != GL_NO_ERROR) {
+  }
+  return Status::error(buf);
+}
+
+struct FormatGl {
+  GLenum internal, format, type;
+};
+FormatGl format_gl(TexFormat f, ColorSpace cs) {
+  switch (f) {
+    case TexFormat::kR8: return {GL_R8, GL_RED, GL_UNSIGNED_BYTE};
+    case TexFormat::kRG8: return {GL_RG8, GL_RG, GL_UNSIGNED_BYTE};
+    case TexFormat::kRGBA8:
+      return {cs == ColorSpace::kSRGB ? GLenum(GL_SRGB8_ALPHA8) : GLenum(GL_RGBA8), GL_RGBA,
+              GL_UNSIGNED_BYTE};
+    case TexFormat::kR16: return {GL_R16, GL_RED, GL_UNSIGNED_SHORT};
+    case TexFormat::kR16F: return {GL_R16F, GL_RED, GL_HALF_FLOAT};
+    case TexFormat::kRGBA16F: return {GL_RGBA16F, GL_RGBA, GL_HALF_FLOAT};
+    case TexFormat::kR32F: return {GL_R32F, GL_RED, GL_FLOAT};
+  }
+  return {GL_RGBA8, GL_RGBA, GL_UNSIGNED_BYTE};
+}
+
+GLenum wrap_gl(Wrap w) {
+  switch (w) {
+    case Wrap::kRepeat: return GL_REPEAT;
+    case Wrap::kClamp: return GL_CLAMP_TO_EDGE;
+    case Wrap::kMirror: return GL_MIRRORED_REPEAT;
+  }
+  return GL_REPEAT;
+}
+
+// Uniform locations of one program (-1 where the compiler removed the uniform).
+struct Locations {
+  GLint view = -1, view_proj = -1, eye = -1, orthographic = -1, view_dir = -1, ambient = -1;
+  GLint num_lights = -1, width = -1, height = -1;
+  struct Light {
+    GLint type = -1, position = -1, direction = -1, color = -1, range = -1, inner = -1, outer = -1;
+  } lights[kMaxLights];
+  GLint params = -1, base_color = -1, specular = -1, shininess = -1, has_texture = -1;
+};
+
+Locations find_locations(GLuint p) {
+  Locations l;
+  auto loc = [p](const std::string& n) { return glGetUniformLocation(p, n.c_str()); };
+  l.view = loc("frame.view");
+  l.view_proj = loc("frame.view_proj");
+  l.eye = loc("frame.eye");
+  l.orthographic = loc("frame.orthographic");
+  l.view_dir = loc("frame.view_dir");
+  l.ambient = loc("frame.ambient");
+  l.num_lights = loc("frame.num_lights");
+  l.width = loc("frame.width");
+  l.height = loc("frame.height");
+  for (int i = 0; i < kMaxLights; ++i) {
+    const std::string b = "frame.lights[" + std::to_string(i) + "].";
+    l.lights[i] = {loc(b + "type"),  loc(b + "position"),       loc(b + "direction"),
+                   loc(b + "color"), loc(b + "range"),          loc(b + "inner_cone_cos"),
+                   loc(b + "outer_cone_cos")};
+  }
+  l.params = loc("material.params[0]");
+  l.base_color = loc("material.base_color");
+  l.specular = loc("material.specular");
+  l.shininess = loc("material.shininess");
+  l.has_texture = loc("has_texture[0]");
+  return l;
+}
+
+struct Program {
+  GLuint id = 0;
+  Locations loc;
+};
+
+struct CachedTexture {
+  TexturePtr owner;  // keeps the address from being reused while cached
+  GLuint id = 0;
+};
+
+class GlBackend final : public Backend {
+ public:
+  explicit GlBackend(std::unique_ptr<gl::Context> ctx) : ctx_(std::move(ctx)) {}
+  ~GlBackend() override;
+  std::string name() const override { return "gl"; }
+  Result<RenderResult> render(const Scene& scene, const Plan& plan,
+                              const RenderOptions& options) override;
+
+ private:
+  Result<const Program*> program_for(const BoundMaterial& m, bool aovs, double* compile_ms);
+  GLuint texture_for(const Texture* t, const BoundMaterial& m, std::vector<GLuint>& transient);
+  GLuint sampler_for(const SamplerState& s);
+  Status ensure_target(int w, int h, bool aovs);
+  void release_target();
+
+  std::unique_ptr<gl::Context> ctx_;
+  std::map<std::string, Program> programs_;
+  std::map<const Texture*, CachedTexture> textures_;
+  std::map<uint32_t, GLuint> samplers_;
+  GLuint fbo_ = 0, color_ = 0, depth_ = 0, aov_[2] = {0, 0};
+  int fb_w_ = 0, fb_h_ = 0;
+  bool fb_aovs_ = false;
+  GLuint vao_ = 0, vbo_clip_ = 0, vbo_vary_ = 0, ebo_ = 0, query_ = 0;
+};
+
+GlBackend::~GlBackend() {
+  if (!ctx_ || !ctx_->make_current().ok()) return;
+  for (auto& [k, p] : programs_) glDeleteProgram(p.id);
+  for (auto& [k, t] : textures_) glDeleteTextures(1, &t.id);
+  for (auto& [k, s] : samplers_) glDeleteSamplers(1, &s);
+  release_target();
+  if (vao_) glDeleteVertexArrays(1, &vao_);
+  GLuint bufs[] = {vbo_clip_, vbo_vary_, ebo_};
+  glDeleteBuffers(3, bufs);
+  if (query_) glDeleteQueries(1, &query_);
+}
+
+Result<const Program*> GlBackend::program_for(const BoundMaterial& m, bool aovs,
+                                              double* compile_ms) {
+  const std::string plugin = m.plugin->name;
+  const bool writes_depth = m.plugin->depth_output(m.effects) != DepthOutput::kNone;
+  const std::string key =
+      plugin + "/" + std::to_string(m.effects) + "/" + (writes_depth ? "d" : "") + (aovs ? "a" : "");
+  if (auto it = programs_.find(key); it != programs_.end()) return &it->second;
+  const std::string frag = gl_twin_file(plugin);
+  if (!gl::shader_file_exists(frag))
+    return Status::error("gl: technique \"" + plugin + "\" has no GLSL twin (gl/shaders/" + frag +
+                         ")");
+  auto flag = [&](const char* name, bool on) { return std::string(name) + (on ? " 1" : " 0"); };
+  const std::vector<std::string> defines = {
+      flag("EFFECT_SELF_SHADOW", m.effects & kEffectSelfShadow),
+      flag("EFFECT_DEPTH_WRITE", m.effects & kEffectDepthWrite),
+      flag("EFFECT_SILHOUETTE", m.effects & kEffectSilhouette),
+      flag("EFFECT_SHADOW_PASS", m.effects & kEffectShadowPass),
+      flag("EFFECT_RECEIVE_SHADOW", m.effects & kEffectReceiveShadow),
+      flag("RELIEF_WRITES_DEPTH", writes_depth),
+      flag("RELIEF_AOVS", aovs),
+  };
+  const auto t0 = Clock::now();
+  Result<unsigned> id = gl::build_program("relief.vert", frag, defines);
+  if (!id.ok()) return id.status();
+  Program p;
+  p.id = *id;
+  p.loc = find_locations(p.id);
+  *compile_ms += ms_since(t0);
+  return &programs_.emplace(key, p).first->second;
+}
+
+GLuint GlBackend::sampler_for(const SamplerState& s) {
+  const int aniso = s.filter == Filter::kAnisotropic ? std::clamp(s.max_aniso, 1, 16) : 1;
+  const uint32_t key = uint32_t(s.filter) | uint32_t(s.wrap_u) << 4 | uint32_t(s.wrap_v) << 8 |
+                       uint32_t(aniso) << 12;
+  if (auto it = samplers_.find(key); it != samplers_.end()) return it->second;
+  GLuint id = 0;
+  glCreateSamplers(1, &id);
+  GLenum min = GL_LINEAR_MIPMAP_LINEAR, mag = GL_LINEAR;
+  switch (s.filter) {
+    case Filter::kNearest: min = GL_NEAREST_MIPMAP_NEAREST; mag = GL_NEAREST; break;
+    case Filter::kBilinear: min = GL_LINEAR_MIPMAP_NEAREST; break;
+    case Filter::kTrilinear:
+    case Filter::kAnisotropic: min = GL_LINEAR_MIPMAP_LINEAR; break;
+  }
+  glSamplerParameteri(id, GL_TEXTURE_MIN_FILTER, static_cast<GLint>(min));
+  glSamplerParameteri(id, GL_TEXTURE_MAG_FILTER, static_cast<GLint>(mag));
+  glSamplerParameteri(id, GL_TEXTURE_WRAP_S, static_cast<GLint>(wrap_gl(s.wrap_u)));
+  glSamplerParameteri(id, GL_TEXTURE_WRAP_T, static_cast<GLint>(wrap_gl(s.wrap_v)));
+  if (ctx_->has_extension("GL_ARB_texture_filter_anisotropic") ||
+      ctx_->has_extension("GL_EXT_texture_filter_anisotropic"))
+    glSamplerParameterf(id, GL_TEXTURE_MAX_ANISOTROPY, static_cast<float>(aniso));
+  samplers_.emplace(key, id);
+  return id;
+}
+
+GLuint GlBackend::texture_for(const Texture* t, const BoundMaterial& m,
+                              std::vector<GLuint>& transient) {
+  if (auto it = textures_.find(t); it != textures_.end()) return it->second.id;
+  const FormatGl f = format_gl(t->format(), t->color_space());
+  GLuint id = 0;
+  glCreateTextures(GL_TEXTURE_2D, 1, &id);
+  glTextureStorage2D(id, t->levels(), f.internal, t->width(0), t->height(0));
+  glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+  glPixelStorei(GL_UNPACK_ROW_LENGTH, 0);
+  // Row 0 in memory is v = 0 in both backends: uploaded as stored, no flip.
+  for (int l = 0; l < t->levels(); ++l) {
+    const MipLevel& lv = t->level(l);
+    glTextureSubImage2D(id, l, 0, 0, lv.width, lv.height, f.format, f.type, lv.data.data());
+  }
+  glTextureParameteri(id, GL_TEXTURE_BASE_LEVEL, 0);
+  glTextureParameteri(id, GL_TEXTURE_MAX_LEVEL, t->levels() - 1);
+  TexturePtr owner;
+  for (const TexturePtr& p : m.keep_alive)
+    if (p.get() == t) owner = p;
+  if (owner)
+    textures_.emplace(t, CachedTexture{owner, id});
+  else
+    transient.push_back(id);  // nothing keeps the address alive: do not cache
+  return id;
+}
+
+void GlBackend::release_target() {
+  if (fbo_) glDeleteFramebuffers(1, &fbo_);
+  GLuint tex[] = {color_, depth_, aov_[0], aov_[1]};
+  glDeleteTextures(4, tex);
+  fbo_ = color_ = depth_ = aov_[0] = aov_[1] = 0;
+  fb_w_ = fb_h_ = 0;
+}
+
+Status GlBackend::ensure_target(int w, int h, bool aovs) {
+  if (fbo_ && fb_w_ == w && fb_h_ == h && fb_aovs_ == aovs) return {};
+  release_target();
+  GLint max_size = 0;
+  glGetIntegerv(GL_MAX_TEXTURE_SIZE, &max_size);
+  if (w < 1 || h < 1 || w > max_size || h > max_size)
+    return Status::error("gl: target " + std::to_string(w) + "x" + std::to_string(h) +
+                         " outside 1.." + std::to_string(max_size));
+  glCreateFramebuffers(1, &fbo_);
+  auto make = [&](GLenum internal, GLuint* id) {
+    glCreateTextures(GL_TEXTURE_2D, 1, id);
+    glTextureStorage2D(*id, 1, internal, w, h);
+    glTextureParameteri(*id, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+    glTextureParameteri(*id, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+  };
+  make(GL_RGBA32F, &color_);
+  make(GL_DEPTH_COMPONENT32F, &depth_);
+  glNamedFramebufferTexture(fbo_, GL_COLOR_ATTACHMENT0, color_, 0);
+  glNamedFramebufferTexture(fbo_, GL_DEPTH_ATTACHMENT, depth_, 0);
+  if (aovs) {
+    make(GL_RGBA32F, &aov_[0]);
+    make(GL_RGBA32F, &aov_[1]);
+    glNamedFramebufferTexture(fbo_, GL_COLOR_ATTACHMENT1, aov_[0], 0);
+    glNamedFramebufferTexture(fbo_, GL_COLOR_ATTACHMENT2, aov_[1], 0);
+    const GLenum bufs[] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1, GL_COLOR_ATTACHMENT2};
+    glNamedFramebufferDrawBuffers(fbo_, 3, bufs);
+  } else {
+    const GLenum bufs[] = {GL_COLOR_ATTACHMENT0};
+    glNamedFramebufferDrawBuffers(fbo_, 1, bufs);
+  }
+  const GLenum status = glCheckNamedFramebufferStatus(fbo_, GL_DRAW_FRAMEBUFFER);
+  if (status != GL_FRAMEBUFFER_COMPLETE) {
+    char buf[96];
+    std::snprintf(buf, sizeof(buf), "gl: framebuffer incomplete (0x%04x)", status);
+    release_target();
+    return Status::error(buf);
+  }
+  fb_w_ = w;
+  fb_h_ = h;
+  fb_aovs_ = aovs;
+  return gl_check("framebuffer setup");
+}
+
+void set_frame_uniforms(GLuint p, const Locations& l, const FrameUniforms& f) {
+  glProgramUniformMatrix4fv(p, l.view, 1, GL_FALSE, &f.view[0][0]);
+  glProgramUniformMatrix4fv(p, l.view_proj, 1, GL_FALSE, &f.view_proj[0][0]);
+  glProgramUniform3fv(p, l.eye, 1, &f.eye[0]);
+  glProgramUniform1i(p, l.orthographic, f.orthographic ? 1 : 0);
+  glProgramUniform3fv(p, l.view_dir, 1, &f.view_dir[0]);
+  glProgramUniform3fv(p, l.ambient, 1, &f.ambient[0]);
+  const int n = std::clamp(f.num_lights, 0, kMaxLights);
+  glProgramUniform1i(p, l.num_lights, n);
+  glProgramUniform1i(p, l.width, f.width);
+  glProgramUniform1i(p, l.height, f.height);
+  for (int i = 0; i < n; ++i) {
+    const LightUniform& s = f.lights[i];
+    const Locations::Light& d = l.lights[i];
+    glProgramUniform1i(p, d.type, static_cast<int>(s.type));
+    glProgramUniform3fv(p, d.position, 1, &s.position[0]);
+    glProgramUniform3fv(p, d.direction, 1, &s.direction[0]);
+    glProgramUniform3fv(p, d.color, 1, &s.color[0]);
+    glProgramUniform1f(p, d.range, s.range);
+    glProgramUniform1f(p, d.inner, s.inner_cone_cos);
+    glProgramUniform1f(p, d.outer, s.outer_cone_cos);
+  }
+}
+
+void set_material_uniforms(GLuint p, const Locations& l, const MaterialUniforms& m) {
+  glProgramUniform1fv(p, l.params, kMaxParams, m.params);
+  glProgramUniform4fv(p, l.base_color, 1, &m.base_color[0]);
+  glProgramUniform1f(p, l.specular, m.specular);
+  glProgramUniform1f(p, l.shininess, m.shininess);
+  GLint has[kMaxTextureSlots];
+  for (int i = 0; i < kMaxTextureSlots; ++i) has[i] = m.textures[i] != nullptr ? 1 : 0;
+  glProgramUniform1iv(p, l.has_texture, kMaxTextureSlots, has);
+}
+
+Result<RenderResult> GlBackend::render(const Scene& scene, const Plan& plan,
+                                       const RenderOptions& opt) {
+  const auto t_frame = Clock::now();
+  RELIEF_RETURN_IF_ERROR(ctx_->make_current());
+  while (glGetError() != GL_NO_ERROR) {
+  }
+  RenderResult result;
+  result.device = ctx_->info().renderer;
+  const bool aovs = opt.aovs != 0;
+  const int w = opt.width, h = opt.height;
+
+  // Drop cached textures nobody else holds any more.
+  for (auto it = textures_.begin(); it != textures_.end();) {
+    if (it->second.owner.use_count() == 1) {
+      glDeleteTextures(1, &it->second.id);
+      it = textures_.erase(it);
+    } else {
+      ++it;
+    }
+  }
+
+  // Programs: the first frame of a variant pays for compiling it.
+  std::vector<const Program*> programs(plan.materials.size(), nullptr);
+  std::vector<int> fresh;  // materials whose program was built in this frame
+  const std::vector<PreparedDraw> prepared = prepare_draws(scene, plan.frame.view_proj);
+  for (const PreparedDraw& d : prepared) {
+    if (d.material < 0 || d.material >= static_cast<int>(plan.materials.size()))
+      return Status::error("gl: instance " + std::to_string(d.instance) + " has no material");
+    if (programs[d.material]) continue;
+    const BoundMaterial& m = plan.materials[d.material];
+    if (!m.plugin) return Status::error("gl: material " + std::to_string(d.material) + " unbound");
+    const size_t before = programs_.size();
+    Result<const Program*> p = program_for(m, aovs, &result.compile_ms);
+    if (!p.ok()) return p.status();
+    programs[d.material] = *p;
+    if (programs_.size() != before) fresh.push_back(d.material);
+  }
+
+  // Uploads: textures (cached while the scene holds them) and this frame's vertex data.
+  const auto t_upload = Clock::now();
+  std::vector<GLuint> transient;
+  std::vector<std::array<GLuint, kMaxTextureSlots>> tex_ids(plan.materials.size());
+  std::vector<std::array<GLuint, kMaxTextureSlots>> sampler_ids(plan.materials.size());
+  for (size_t mi = 0; mi < plan.materials.size(); ++mi) {
+    if (!programs[mi]) continue;
+    const BoundMaterial& m = plan.materials[mi];
+    for (int s = 0; s < kMaxTextureSlots; ++s) {
+      const Texture* t = m.uniforms.textures[s];
+      tex_ids[mi][s] = t && !t->empty() ? texture_for(t, m, transient) : 0;
+      sampler_ids[mi][s] = t ? sampler_for(m.uniforms.samplers[s]) : 0;
+    }
+  }
+  if (!vao_) {
+    glCreateVertexArrays(1, &vao_);
+    GLuint bufs[3];
+    glCreateBuffers(3, bufs);
+    vbo_clip_ = bufs[0];
+    vbo_vary_ = bufs[1];
+    ebo_ = bufs[2];
+    glVertexArrayVertexBuffer(vao_, 0, vbo_clip_, 0, sizeof(glm::vec4));
+    glVertexArrayVertexBuffer(vao_, 1, vbo_vary_, 0, sizeof(float) * varying::kCount);
+    glEnableVertexArrayAttrib(vao_, 0);
+    glVertexArrayAttribFormat(vao_, 0, 4, GL_FLOAT, GL_FALSE, 0);
+    glVertexArrayAttribBinding(vao_, 0, 0);
+    for (int a = 0; a < varying::kCount / 4; ++a) {
+      glEnableVertexArrayAttrib(vao_, 1 + a);
+      glVertexArrayAttribFormat(vao_, 1 + a, 4, GL_FLOAT, GL_FALSE, sizeof(float) * 4 * a);
+      glVertexArrayAttribBinding(vao_, 1 + a, 1);
+    }
+    glVertexArrayElementBuffer(vao_, ebo_);
+    glCreateQueries(GL_TIME_ELAPSED, 1, &query_);
+  }
+  struct DrawRange {
+    size_t draw;
+    GLsizei count;
+    size_t index_offset;
+    GLint base_vertex;
+  };
+  std::vector<DrawRange> ranges;
+  size_t nv = 0, ni = 0;
+  for (const PreparedDraw& d : prepared) {
+    nv += d.clip.size();
+    ni += d.indices ? d.indices->size() : 0;
+  }
+  std::vector<glm::vec4> clip;
+  std::vector<float> vary;
+  std::vector<uint32_t> idx;
+  clip.reserve(nv);
+  vary.reserve(nv * varying::kCount);
+  idx.reserve(ni);
+  for (size_t i = 0; i < prepared.size(); ++i) {
+    const PreparedDraw& d = prepared[i];
+    if (!d.indices || d.indices->empty()) continue;
+    ranges.push_back({i, static_cast<GLsizei>(d.indices->size()), idx.size(),
+                      static_cast<GLint>(clip.size())});
+    clip.insert(clip.end(), d.clip.begin(), d.clip.end());
+    vary.insert(vary.end(), d.varyings.begin(), d.varyings.end());
+    idx.insert(idx.end(), d.indices->begin(), d.indices->end());
+  }
+  const size_t warmup_offset = idx.size();  // one degenerate triangle (see below)
+  idx.insert(idx.end(), {0u, 0u, 0u});
+  glNamedBufferData(vbo_clip_, static_cast<GLsizeiptr>(clip.size() * sizeof(glm::vec4)),
+                    clip.data(), GL_STREAM_DRAW);
+  glNamedBufferData(vbo_vary_, static_cast<GLsizeiptr>(vary.size() * sizeof(float)), vary.data(),
+                    GL_STREAM_DRAW);
+  glNamedBufferData(ebo_, static_cast<GLsizeiptr>(idx.size() * sizeof(uint32_t)), idx.data(),
+                    GL_STREAM_DRAW);
+  RELIEF_RETURN_IF_ERROR(ensure_target(w, h, aovs));
+  glFinish();
+  result.upload_ms = ms_since(t_upload);
+  RELIEF_RETURN_IF_ERROR(gl_check("upload"));
+
+  // The main pass. (Shadow passes: the CPU backend does not execute them yet either.)
+  FrameUniforms frame = plan.frame;
+  frame.width = w;
+  frame.height = h;
+  glBindFramebuffer(GL_FRAMEBUFFER, fbo_);
+  glViewport(0, 0, w, h);
+  glClipControl(GL_LOWER_LEFT, GL_ZERO_TO_ONE);
+  glDisable(GL_BLEND);
+  glDisable(GL_SCISSOR_TEST);
+  glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+  glDepthMask(GL_TRUE);
+  glEnable(GL_DEPTH_TEST);
+  glDepthFunc(GL_GREATER);
+  glFrontFace(GL_CCW);
+  glCullFace(GL_BACK);
+  glBindVertexArray(vao_);
+  std::map<GLuint, int> material_of;  // material whose uniforms a program holds now
+  auto bind_material = [&](int mi) {
+    const BoundMaterial& m = plan.materials[mi];
+    const Program& p = *programs[mi];
+    glUseProgram(p.id);
+    auto [it, first_use] = material_of.emplace(p.id, -1);
+    if (first_use) set_frame_uniforms(p.id, p.loc, frame);
+    if (it->second != mi) {
+      set_material_uniforms(p.id, p.loc, m.uniforms);
+      it->second = mi;
+    }
+    for (int s = 0; s < kMaxTextureSlots; ++s) {
+      glBindTextureUnit(s, tex_ids[mi][s]);
+      glBindSampler(s, sampler_ids[mi][s]);
+    }
+    if (m.double_sided)
+      glDisable(GL_CULL_FACE);
+    else
+      glEnable(GL_CULL_FACE);
+  };
+  // Drivers may finish compiling at the first draw (llvmpipe JITs its fragment code there): a
+  // degenerate triangle per new program, in the pass's state and before the clear, moves that
+  // cost into compile_ms so the pass time is the steady-state one.
+  if (!fresh.empty() && !clip.empty()) {
+    const auto t_warm = Clock::now();
+    for (int mi : fresh) {
+      bind_material(mi);
+      glDrawElementsBaseVertex(
+          GL_TRIANGLES, 3, GL_UNSIGNED_INT,
+          reinterpret_cast<const void*>(static_cast<uintptr_t>(warmup_offset * sizeof(uint32_t))),
+          0);
+    }
+    glFinish();
+    result.compile_ms += ms_since(t_warm);
+  }
+
+  const auto t_pass = Clock::now();
+  // Begun after binding the target: llvmpipe attributes a query to the framebuffer's scene.
+  glBeginQuery(GL_TIME_ELAPSED, query_);
+  const glm::vec4 bg = scene.background;
+  glClearNamedFramebufferfv(fbo_, GL_COLOR, 0, &bg[0]);
+  if (aovs) {
+    const float zero[4] = {0, 0, 0, 0};
+    glClearNamedFramebufferfv(fbo_, GL_COLOR, 1, zero);
+    glClearNamedFramebufferfv(fbo_, GL_COLOR, 2, zero);
+  }
+  const float depth_clear = 0.0f;
+  glClearNamedFramebufferfv(fbo_, GL_DEPTH, 0, &depth_clear);
+  for (const DrawRange& r : ranges) {
+    bind_material(prepared[r.draw].material);
+    glDrawElementsBaseVertex(
+        GL_TRIANGLES, r.count, GL_UNSIGNED_INT,
+        reinterpret_cast<const void*>(static_cast<uintptr_t>(r.index_offset * sizeof(uint32_t))),
+        r.base_vertex);
+  }
+  glEndQuery(GL_TIME_ELAPSED);
+  glFinish();
+  PassStats main;
+  main.name = "main";
+  main.ms = ms_since(t_pass);
+  GLuint64 ns = 0;
+  glGetQueryObjectui64v(query_, GL_QUERY_RESULT, &ns);
+  // A pass cannot take longer on the device than between its begin and glFinish; llvmpipe returns
+  // such values (threads that rasterised no bin report no start time), so they are dropped.
+  const double gpu_ms = static_cast<double>(ns) * 1e-6;
+  main.gpu_ms = gpu_ms > 0.0 && gpu_ms <= main.ms * 1.05 + 0.05 ? gpu_ms : -1.0;
+  RELIEF_RETURN_IF_ERROR(gl_check("main pass"));
+  result.passes.push_back(main);
+
+  // Read back, flipping rows: GL's row 0 is the bottom, the Image's the top.
+  const auto t_read = Clock::now();
+  Framebuffer fb(w, h, opt.aovs);
+  std::vector<float> buf(static_cast<size_t>(w) * h * 4);
+  glPixelStorei(GL_PACK_ALIGNMENT, 4);
+  glPixelStorei(GL_PACK_ROW_LENGTH, 0);
+  auto read_rgba = [&](GLenum attachment) {
+    glNamedFramebufferReadBuffer(fbo_, attachment);
+    glReadPixels(0, 0, w, h, GL_RGBA, GL_FLOAT, buf.data());
+  };
+  auto finite = [](float v) { return std::isfinite(v) ? v : 0.0f; };
+  read_rgba(GL_COLOR_ATTACHMENT0);
+  for (int y = 0; y < h; ++y) {
+    const float* row = &buf[static_cast<size_t>(h - 1 - y) * w * 4];
+    for (int x = 0; x < w; ++x)
+      fb.color.at(x, y) = glm::vec4(finite(row[x * 4]), finite(row[x * 4 + 1]),
+                                    finite(row[x * 4 + 2]), finite(row[x * 4 + 3]));
+  }
+  if (aovs) {
+    for (int a = 0; a < 2; ++a) {
+      read_rgba(GL_COLOR_ATTACHMENT1 + a);
+      for (int y = 0; y < h; ++y) {
+        const float* row = &buf[static_cast<size_t>(h - 1 - y) * w * 4];
+        for (int x = 0; x < w; ++x) {
+          float* dst = fb.aov_at(x, y);
+          for (int c = 0; c < 4 && a * 4 + c < kAovTotalChannels; ++c)
+            dst[a * 4 + c] = finite(row[x * 4 + c]);
+        }
+      }
+    }
+  }
+  glNamedFramebufferReadBuffer(fbo_, GL_COLOR_ATTACHMENT0);
+  std::vector<float> dbuf(static_cast<size_t>(w) * h);
+  glReadPixels(0, 0, w, h, GL_DEPTH_COMPONENT, GL_FLOAT, dbuf.data());
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x)
+      fb.depth.at(x, y) = finite(dbuf[static_cast<size_t>(h - 1 - y) * w + x]);
+  glBindFramebuffer(GL_FRAMEBUFFER, 0);
+  glDeleteTextures(static_cast<GLsizei>(transient.size()), transient.data());
+  RELIEF_RETURN_IF_ERROR(gl_check("read back"));
+  result.readback_ms = ms_since(t_read);
+  result.framebuffer = std::move(fb);
+  result.frame_ms = ms_since(t_frame);
+  return result;
+}
+
+}  // namespace
+
+Result<std::unique_ptr<Backend>> make_gl_backend(int gpu) {
+  Result<std::unique_ptr<gl::Context>> ctx = gl::Context::create(gpu);
+  if (!ctx.ok()) return ctx.status();
+  return std::unique_ptr<Backend>(std::make_unique<GlBackend>(std::move(*ctx)));
+}
+
+}  // namespace relief
