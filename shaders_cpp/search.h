@@ -1,0 +1,180 @@
+// Height-field ray searches written once over the lane type F (float or F8):
+//   linear + binary search: Policarpo, Oliveira and Comba, "Real-Time Relief Mapping on Arbitrary
+//     Polygonal Surfaces", I3D 2005 (section 3, figures 7-9; appendix ray_intersect_rm);
+//   steep parallax: McGuire and McGuire, "Steep Parallax Mapping", I3D 2005 poster (n planes);
+//   secant refinement: Tatarchuk, "Dynamic Parallax Occlusion Mapping with Approximate Soft
+//     Shadows", I3D 2006 (interpolation of the last two samples);
+//   parallax: Kaneko et al. 2001; offset limiting: Welsh 2004.
+//
+// Conventions: see shaders_cpp/ray.h. A ray starts at uv (depth 0) and reaches depth t at
+// uv + ds * t. A sample at depth t is "inside" (under the surface) when the sampled depth
+// D(uv + ds * t) <= t. Every search returns the hit (uv, depth) and, per lane, the steps it took
+// and the texture fetches it made (one call of the depth source = one fetch). Lanes outside
+// `active` do nothing, are not counted and return their start uv at depth 0. Loops stop as soon
+// as no lane is still searching.
+//
+// A depth source is any object with `float operator()(int lane, float u, float v) const`; lane is
+// the lane index within F (0 for float), so a source can hold one LOD per quad. TextureDepth reads
+// a depth texture through sample_r_lod at a constant LOD.
+#pragma once
+
+#include <glm/vec2.hpp>
+
+#include "rasterizer/texture.h"
+#include "shaders_cpp/lanes.h"
+#include "shaders_cpp/vec.h"
+
+namespace relief {
+
+// Depth from the first channel of a texture at a fixed LOD per lane (computed once per quad).
+struct TextureDepth {
+  const Texture* texture = nullptr;
+  const SamplerState* sampler = nullptr;
+  float lod[8] = {};
+  float operator()(int lane, float u, float v) const {
+    return sample_r_lod(*texture, *sampler, glm::vec2(u, v), lod[lane]);
+  }
+};
+
+template <class F>
+struct SearchHit {
+  V2<F> uv;     // hit texture coordinates (not wrapped)
+  F depth;      // ray depth at the hit, [0, 1]
+  F steps;      // search iterations, per lane
+  F fetches;    // depth samples, per lane
+};
+
+// The bracket a linear search leaves for a refinement: the last sample outside (depth t_out,
+// g_out = D - t > 0, or t_out = 0 with g_out = 0 when nothing was sampled outside) and the first
+// inside (t_in, g_in = D - t <= 0).
+template <class F>
+struct Bracket {
+  F t_out, g_out, t_in, g_in;
+};
+
+// One depth sample per active lane; inactive lanes read 0 without a fetch.
+template <class F, class Depth>
+inline F sample_depth(const Depth& depth, V2<F> uv, mask_t<F> active) {
+  return per_lane(F(0.0f), [&](int i) {
+    return lane(active, i) ? depth(i, lane(uv.x, i), lane(uv.y, i)) : 0.0f;
+  });
+}
+
+namespace detail {
+template <class F>
+inline F count(mask_t<F> m) {
+  return select(m, F(1.0f), F(0.0f));
+}
+}  // namespace detail
+
+// Linear search with n steps per lane (n >= 1, a whole number; may differ per lane): samples depth
+// t_i = i / n for i = 0, 1, ..., n and stops at the first sample inside; t = 1 counts as inside
+// (D <= 1) whatever it reads. At most n + 1 steps and fetches. Returns the first inside sample as the hit; `bracket`
+// (optional) receives the last outside and first inside samples.
+template <class F, class Depth>
+inline SearchHit<F> linear_search(const Depth& depth, V2<F> uv, V2<F> ds, F n, mask_t<F> active,
+                                  Bracket<F>* bracket = nullptr) {
+  F inv_n = F(1.0f) / n;
+  F t_out(0.0f), g_out(0.0f), t_in(0.0f), g_in(0.0f);
+  F steps(0.0f), fetches(0.0f);
+  mask_t<F> searching = active;
+  for (int i = 0; any(searching); ++i) {
+    F fi = F(static_cast<float>(i));
+    mask_t<F> last = fi >= n;
+    F t = select(last, F(1.0f), fi * inv_n);
+    mask_t<F> fetch = searching;
+    F d = sample_depth(depth, uv + ds * t, fetch);
+    F g = select(last, vmin(d - t, F(0.0f)), d - t);
+    mask_t<F> inside = searching & (last | (g <= F(0.0f)));
+    mask_t<F> outside = searching & !inside;
+    steps += detail::count<F>(searching);
+    fetches += detail::count<F>(fetch);
+    t_out = select(outside, t, t_out);
+    g_out = select(outside, g, g_out);
+    t_in = select(inside, t, t_in);
+    g_in = select(inside, g, g_in);
+    searching = outside;
+  }
+  if (bracket) *bracket = {t_out, g_out, t_in, g_in};
+  return {uv + ds * t_in, t_in, steps, fetches};
+}
+
+// Binary search (m halvings) between the last outside and first inside depths of `b`: keeps the
+// half whose ends straddle the surface and returns the inside end. Adds to `hit`'s counters.
+template <class F, class Depth>
+inline SearchHit<F> binary_search(const Depth& depth, V2<F> uv, V2<F> ds, const Bracket<F>& b,
+                                  int m, mask_t<F> active, SearchHit<F> hit) {
+  F lo = b.t_out, hi = b.t_in;
+  mask_t<F> refine = active & (hi > lo);
+  for (int i = 0; i < m && any(refine); ++i) {
+    F mid = (lo + hi) * F(0.5f);
+    F d = sample_depth(depth, uv + ds * mid, refine);
+    mask_t<F> inside = d <= mid;
+    hi = select(refine & inside, mid, hi);
+    lo = select(refine & !inside, mid, lo);
+    hit.steps += detail::count<F>(refine);
+    hit.fetches += detail::count<F>(refine);
+  }
+  hit.depth = select(active, hi, hit.depth);
+  hit.uv = select(active, uv + ds * hi, hit.uv);
+  return hit;
+}
+
+// Secant refinement (POM): the root of the line through the bracket's two samples,
+// t = t_out + (t_in - t_out) * g_out / (g_out - g_in). No fetch; clamped to the bracket.
+template <class F>
+inline SearchHit<F> secant_refine(V2<F> uv, V2<F> ds, const Bracket<F>& b, mask_t<F> active,
+                                  SearchHit<F> hit) {
+  F den = b.g_out - b.g_in;
+  mask_t<F> ok = active & (den > F(0.0f));
+  F w = b.g_out / select(ok, den, F(1.0f));
+  F t = clamp(b.t_out + (b.t_in - b.t_out) * w, b.t_out, b.t_in);
+  t = select(ok, t, hit.depth);
+  hit.depth = select(active, t, hit.depth);
+  hit.uv = select(active, uv + ds * t, hit.uv);
+  return hit;
+}
+
+// Relief mapping: linear search (n steps) then binary search (m steps).
+template <class F, class Depth>
+inline SearchHit<F> relief_search(const Depth& depth, V2<F> uv, V2<F> ds, F n, int m,
+                                  mask_t<F> active) {
+  Bracket<F> b;
+  SearchHit<F> hit = linear_search(depth, uv, ds, n, active, &b);
+  return binary_search(depth, uv, ds, b, m, active, hit);
+}
+
+// Parallax occlusion mapping: linear search (n steps) then secant refinement.
+template <class F, class Depth>
+inline SearchHit<F> pom_search(const Depth& depth, V2<F> uv, V2<F> ds, F n, mask_t<F> active) {
+  Bracket<F> b;
+  SearchHit<F> hit = linear_search(depth, uv, ds, n, active, &b);
+  return secant_refine(uv, ds, b, active, hit);
+}
+
+// Steep parallax: n depth planes t_i = i / n; the hit is the first plane sample inside, with no
+// refinement (the linear search itself).
+template <class F, class Depth>
+inline SearchHit<F> steep_parallax_search(const Depth& depth, V2<F> uv, V2<F> ds, F n,
+                                          mask_t<F> active) {
+  return linear_search(depth, uv, ds, n, active);
+}
+
+// Parallax mapping: one depth sample d = D(uv), hit at uv + ds * d (the ray reaching depth d).
+// With offset limiting (Welsh) the offset drops the 1 / -V.z factor: uv + ds * (-V.z) * d, which
+// bounds it by depth_scale * d at grazing angles. One step, one fetch.
+template <class F, class Depth>
+inline SearchHit<F> parallax_offset(const Depth& depth, V2<F> uv, V2<F> ds, F vz,
+                                    bool offset_limiting, mask_t<F> active) {
+  F d = sample_depth(depth, uv, active);
+  d = saturate(d);
+  V2<F> step = offset_limiting ? ds * saturate(-vz) : ds;
+  SearchHit<F> hit;
+  hit.uv = select(active, uv + step * d, uv);
+  hit.depth = select(active, d, F(0.0f));
+  hit.steps = detail::count<F>(active);
+  hit.fetches = hit.steps;
+  return hit;
+}
+
+}  // namespace relief
