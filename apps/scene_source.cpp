@@ -1,5 +1,6 @@
 #include "apps/scene_source.h"
 
+#include "gl/gl_backend.h"
 #include "scene/builtin.h"
 
 namespace relief::cli {
@@ -17,8 +18,9 @@ Result<Scene> load_scene_source(const std::string& name) {
 }
 
 Result<std::unique_ptr<Backend>> make_backend(const std::string& name, int threads, int gpu) {
+  // threads applies to the CPU backend; llvmpipe takes LP_NUM_THREADS from the environment.
   if (name == "cpu") return make_cpu_backend(threads);
-  return Status::error("the gl backend is not built yet");
+  return make_gl_backend(gpu);
 }
 
 }  // namespace relief::cli

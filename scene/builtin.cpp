@@ -98,7 +98,7 @@ Mesh make_quad(float half, float uv_tiles) {
 Result<Scene> make_plane() {
   Scene s;
   s.name = "plane";
-  s.meshes.push_back(make_quad(2.5f, 5.0f));
+  s.meshes.push_back(make_quad(4.0f, 8.0f));  // fills a 16:9 view
   TexturePtr depth, color;
   make_bricks(512, depth, color);
   const float depth_scale = 0.06f;

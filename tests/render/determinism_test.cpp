@@ -1,0 +1,73 @@
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "render/render.h"
+#include "scene/builtin.h"
+
+namespace relief {
+namespace {
+
+RenderResult render_plane(int threads, int tile, const std::string& technique, bool scalar = false) {
+  Result<Scene> scene = make_builtin_scene("plane");
+  EXPECT_TRUE(scene.ok());
+  RenderOptions opt;
+  opt.width = 200;
+  opt.height = 150;
+  opt.threads = threads;
+  opt.tile_size = tile;
+  opt.technique = technique;
+  opt.scalar_lanes = scalar;
+  opt.aovs = aov_bit(Aov::kHitUv) | aov_bit(Aov::kNormal);
+  Result<Plan> plan = make_plan(*scene, opt);
+  EXPECT_TRUE(plan.ok()) << plan.status().message();
+  auto backend = make_cpu_backend(threads);
+  Result<RenderResult> r = backend->render(*scene, *plan, opt);
+  EXPECT_TRUE(r.ok());
+  return std::move(r).value();
+}
+
+bool identical(const Framebuffer& a, const Framebuffer& b) {
+  return a.color.pixels == b.color.pixels && a.depth.values == b.depth.values && a.aov == b.aov;
+}
+
+TEST(Determinism, PlaneIsBitIdenticalForAnyThreadCountAndTileSize) {
+  for (const char* technique : {"flat", "normal"}) {
+    const RenderResult ref = render_plane(1, 64, technique);
+    for (auto [threads, tile] : {std::pair{2, 64}, std::pair{7, 64}, std::pair{2, 16},
+                                 std::pair{7, 128}}) {
+      const RenderResult r = render_plane(threads, tile, technique);
+      EXPECT_TRUE(identical(ref.framebuffer, r.framebuffer))
+          << technique << " threads=" << threads << " tile=" << tile;
+    }
+  }
+}
+
+TEST(Determinism, ScalarAndSimdLanesAgreeBitForBit) {
+  for (const char* technique : {"flat", "normal"}) {
+    const RenderResult simd = render_plane(2, 64, technique, false);
+    const RenderResult scalar = render_plane(2, 64, technique, true);
+    EXPECT_TRUE(identical(simd.framebuffer, scalar.framebuffer)) << technique;
+  }
+}
+
+TEST(Render, PlaneHasNoNaNAndNormalDiffersFromFlat) {
+  const RenderResult flat = render_plane(2, 64, "flat");
+  const RenderResult normal = render_plane(2, 64, "normal");
+  int differ = 0, covered = 0;
+  for (size_t i = 0; i < flat.framebuffer.color.pixels.size(); ++i) {
+    for (int k = 0; k < 4; ++k) {
+      ASSERT_TRUE(std::isfinite(flat.framebuffer.color.pixels[i][k]));
+      ASSERT_TRUE(std::isfinite(normal.framebuffer.color.pixels[i][k]));
+    }
+    ASSERT_TRUE(std::isfinite(normal.framebuffer.depth.values[i]));
+    covered += normal.framebuffer.depth.values[i] > 0.0f;
+    const glm::vec4 d = flat.framebuffer.color.pixels[i] - normal.framebuffer.color.pixels[i];
+    differ += std::fabs(d.r) + std::fabs(d.g) + std::fabs(d.b) > 0.02f;
+  }
+  EXPECT_GT(covered, 200 * 150 / 2);
+  EXPECT_GT(differ, covered / 10);  // the normal map changes the shading visibly
+}
+
+}  // namespace
+}  // namespace relief
