@@ -151,7 +151,10 @@ void brute_texel(const Field& f, const ConeBakeOptions& o, int x, int y, float* 
   float r[4] = {R, R, R, R};
   int ox0, ox1, oy0, oy1;
   if (f.wrap) {
-    const int bx = static_cast<int>(std::ceil(R * f.w)), by = static_cast<int>(std::ceil(R * f.h));
+    // Offsets with D >= R d_i give ratios >= R: the box |ox| <= R d_i w, |oy| <= R d_i h holds all
+    // others.
+    const int bx = static_cast<int>(std::ceil(R * di * f.w)) + 1;
+    const int by = static_cast<int>(std::ceil(R * di * f.h)) + 1;
     ox0 = -bx, ox1 = bx, oy0 = -by, oy1 = by;
   } else {
     ox0 = -x, ox1 = f.w - 1 - x, oy0 = -y, oy1 = f.h - 1 - y;
