@@ -116,7 +116,7 @@ Result<Scene> make_plane() {
   sun.name = "sun";
   sun.type = LightType::kDirectional;
   sun.direction = glm::normalize(glm::vec3(-0.6f, -0.7f, -0.4f));
-  sun.color = glm::vec3(2.5f);
+  sun.color = glm::vec3(1.5f);
   s.lights.push_back(sun);
   Camera cam;
   cam.name = "45deg";

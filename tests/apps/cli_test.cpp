@@ -1,0 +1,112 @@
+// The CLI as a user meets it: exit codes, one-line errors, no partial output.
+#include <gtest/gtest.h>
+
+#include <sys/wait.h>
+
+#include <array>
+#include <cstdio>
+#include <filesystem>
+#include <string>
+
+namespace {
+
+struct CliRun {
+  int code;
+  std::string out;  // stdout and stderr
+};
+
+CliRun run(const std::string& args) {
+  const std::string cmd = std::string(RELIEF_CLI) + " " + args + " 2>&1";
+  CliRun r{-1, ""};
+  FILE* p = popen(cmd.c_str(), "r");
+  std::array<char, 4096> buf;
+  while (fgets(buf.data(), buf.size(), p)) r.out += buf.data();
+  const int status = pclose(p);
+  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return r;
+}
+
+int lines(const std::string& s) {
+  int n = 0;
+  for (char c : s) n += c == '\n';
+  return n;
+}
+
+std::string tmp(const std::string& name) {
+  return (std::filesystem::path(testing::TempDir()) / name).string();
+}
+
+TEST(Cli, RenderWritesPngAndStats) {
+  const std::string png = tmp("cli_ok.png"), stats = tmp("cli_ok.json");
+  std::filesystem::remove(png);
+  const CliRun r = run("render plane --size 64x48 --threads 2 -o " + png + " --stats " + stats);
+  ASSERT_EQ(r.code, 0) << r.out;
+  EXPECT_TRUE(std::filesystem::exists(png));
+  EXPECT_TRUE(std::filesystem::exists(stats));
+  EXPECT_NE(r.out.find(png), std::string::npos);  // prints the path and the time
+  EXPECT_NE(r.out.find("ms"), std::string::npos);
+}
+
+TEST(Cli, UnknownSceneIsOneLineInputError) {
+  const std::string png = tmp("cli_scene.png");
+  const CliRun r = run("render no_such_scene -o " + png);
+  EXPECT_EQ(r.code, 1);
+  EXPECT_EQ(lines(r.out), 1) << r.out;
+  EXPECT_NE(r.out.find("no_such_scene"), std::string::npos);
+  EXPECT_FALSE(std::filesystem::exists(png));
+}
+
+TEST(Cli, BadSizeIsOneLineUsageError) {
+  const std::string png = tmp("cli_size.png");
+  for (const char* size : {"0x10", "800", "100000x100000", "20000x10", "axb"}) {
+    const CliRun r = run(std::string("render --size ") + size + " -o " + png);
+    EXPECT_EQ(r.code, 2) << size << ": " << r.out;
+    EXPECT_EQ(lines(r.out), 1) << r.out;
+    EXPECT_NE(r.out.find("--size"), std::string::npos) << r.out;
+    EXPECT_FALSE(std::filesystem::exists(png));
+  }
+}
+
+TEST(Cli, UnknownParameterNamesIt) {
+  const std::string png = tmp("cli_param.png");
+  const CliRun r = run("render --size 32x32 --param no_such_param=3 -o " + png);
+  EXPECT_EQ(r.code, 2) << r.out;
+  EXPECT_EQ(lines(r.out), 1) << r.out;
+  EXPECT_NE(r.out.find("no_such_param"), std::string::npos);
+  EXPECT_FALSE(std::filesystem::exists(png));
+}
+
+TEST(Cli, UnknownTechniqueIsUsageError) {
+  const CliRun r = run("render --size 32x32 --technique nope -o " + tmp("cli_tech.png"));
+  EXPECT_EQ(r.code, 2) << r.out;
+  EXPECT_EQ(lines(r.out), 1) << r.out;
+}
+
+TEST(Cli, UnwritableOutputLeavesNothing) {
+  const std::string dir = tmp("cli_no_such_dir");
+  std::filesystem::remove_all(dir);
+  const CliRun r = run("render --size 32x32 -o " + dir + "/x.png");
+  EXPECT_EQ(r.code, 1) << r.out;
+  EXPECT_EQ(lines(r.out), 1) << r.out;
+  EXPECT_FALSE(std::filesystem::exists(dir));
+  // An AOV that cannot be written: the main image must not appear either.
+  const std::string png = tmp("cli_partial.png");
+  std::filesystem::remove(png);
+  const CliRun r2 = run("render --size 32x32 -o " + png + " --aov depth=" + dir + "/d.exr");
+  EXPECT_NE(r2.code, 0);
+  EXPECT_FALSE(std::filesystem::exists(png)) << r2.out;
+}
+
+TEST(Cli, ListsTechniquesAndScenes) {
+  const CliRun t = run("techniques");
+  EXPECT_EQ(t.code, 0);
+  EXPECT_NE(t.out.find("normal:"), std::string::npos);
+  EXPECT_NE(t.out.find("normal_strength"), std::string::npos);
+  const CliRun s = run("scenes");
+  EXPECT_EQ(s.code, 0);
+  EXPECT_NE(s.out.find("plane"), std::string::npos);
+  EXPECT_EQ(run("render --help").code, 0);
+  EXPECT_EQ(run("").code, 2);
+}
+
+}  // namespace
