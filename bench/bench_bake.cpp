@@ -1,5 +1,6 @@
 // Cone map and normal map baking: texels per second. Fast bakers at 256 and 512, the brute-force
-// oracles at 128. The depth map is smooth bumps plus noise (cones both long and short); two threads.
+// oracles at 128. The depth map is smooth bumps plus noise (cones both long and short); two
+// threads.
 #include <benchmark/benchmark.h>
 
 #include <cmath>
@@ -42,11 +43,21 @@ void run(benchmark::State& state, ConeKind kind, bool brute) {
   state.SetItemsProcessed(state.iterations() * static_cast<int64_t>(n) * n);
 }
 
-void BM_Bake_Conservative(benchmark::State& s) { run(s, ConeKind::kConservative, false); }
-void BM_Bake_Quad(benchmark::State& s) { run(s, ConeKind::kQuad, false); }
-void BM_Bake_Relaxed(benchmark::State& s) { run(s, ConeKind::kRelaxed, false); }
-void BM_Bake_ConservativeBruteForce(benchmark::State& s) { run(s, ConeKind::kConservative, true); }
-void BM_Bake_RelaxedBruteForce(benchmark::State& s) { run(s, ConeKind::kRelaxed, true); }
+void BM_Bake_Conservative(benchmark::State& s) {
+  run(s, ConeKind::kConservative, false);
+}
+void BM_Bake_Quad(benchmark::State& s) {
+  run(s, ConeKind::kQuad, false);
+}
+void BM_Bake_Relaxed(benchmark::State& s) {
+  run(s, ConeKind::kRelaxed, false);
+}
+void BM_Bake_ConservativeBruteForce(benchmark::State& s) {
+  run(s, ConeKind::kConservative, true);
+}
+void BM_Bake_RelaxedBruteForce(benchmark::State& s) {
+  run(s, ConeKind::kRelaxed, true);
+}
 
 void BM_Bake_NormalMap(benchmark::State& state) {
   const int n = static_cast<int>(state.range(0));
