@@ -1,9 +1,17 @@
 #include "render/compare.h"
 
+#include <sys/wait.h>
+#include <unistd.h>
+
 #include <cmath>
+#include <cstdlib>
+#include <filesystem>
 #include <limits>
+#include <string>
 
 #include <gtest/gtest.h>
+
+#include "scene/image_io.h"
 
 namespace relief {
 namespace {
@@ -75,6 +83,38 @@ TEST(Compare, HeatmapRamp) {
   EXPECT_EQ(h.at(1, 0).r, 0.0f);
   EXPECT_NEAR(h.at(2, 0).g, 1.0f, 1e-5f);
   EXPECT_EQ(h.at(3, 0), glm::vec4(1, 0, 0, 1));
+}
+
+// `relief compare`: exit 0 within bounds, 1 when a bound fails or the inputs are bad, 2 on usage.
+int run_cli(const std::string& args) {
+  const std::string cmd = std::string(RELIEF_CLI) + " " + args + " >/dev/null 2>&1";
+  const int status = std::system(cmd.c_str());
+  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+TEST(Compare, CliExitCodes) {
+  namespace fs = std::filesystem;
+  const fs::path dir = fs::temp_directory_path() / ("relief_compare_" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  const std::string a = (dir / "a.png").string(), b = (dir / "b.png").string();
+  const std::string small = (dir / "small.png").string(), heat = (dir / "heat.png").string();
+  Image ia(16, 8, glm::vec4(0.2f, 0.4f, 0.6f, 1.0f)), ib = ia;
+  for (int x = 0; x < 16; ++x) ib.at(x, 0) = glm::vec4(1.0f, 0.0f, 0.0f, 1.0f);  // 1/8 of pixels
+  ASSERT_TRUE(write_image(a, ia).ok());
+  ASSERT_TRUE(write_image(b, ib).ok());
+  ASSERT_TRUE(write_image(small, Image(4, 4, glm::vec4(0.5f))).ok());
+  EXPECT_EQ(run_cli("compare " + a + " " + a + " --min-psnr 60 --max-rmse 0"), 0);
+  EXPECT_EQ(run_cli("compare " + a + " " + b), 0);  // no bounds: report only
+  EXPECT_EQ(run_cli("compare " + a + " " + b + " --min-psnr 35"), 1);
+  EXPECT_EQ(run_cli("compare " + a + " " + b + " --max-rmse 0.01"), 1);
+  EXPECT_EQ(run_cli("compare " + a + " " + b + " --max-over 0.1"), 1);
+  EXPECT_EQ(run_cli("compare " + a + " " + b + " --max-over 0.2 --heatmap " + heat), 0);
+  EXPECT_TRUE(fs::exists(heat));
+  EXPECT_EQ(run_cli("compare " + a + " " + small), 1);  // different sizes: input error
+  EXPECT_EQ(run_cli("compare " + a + " " + (dir / "missing.png").string()), 1);
+  EXPECT_EQ(run_cli("compare " + a + " " + b + " --threshold -1"), 2);
+  EXPECT_EQ(run_cli("compare " + a), 2);
+  fs::remove_all(dir);
 }
 
 }  // namespace
