@@ -75,11 +75,15 @@ nlohmann::json stats_json(const RenderResult& r, const std::string& scene,
   j["height"] = opt.height;
   j["device"] = r.device;
   j["frame_ms"] = r.frame_ms;
+  j["compile_ms"] = r.compile_ms;
+  j["upload_ms"] = r.upload_ms;
+  j["readback_ms"] = r.readback_ms;
   for (const PassStats& p : r.passes) {
     const RasterStats& s = p.raster;
     nlohmann::json pj;
     pj["name"] = p.name;
     pj["ms"] = p.ms;
+    pj["gpu_ms"] = p.gpu_ms;
     pj["setup_ms"] = s.setup_ms;
     pj["raster_ms"] = s.raster_ms;
     pj["triangles_in"] = s.triangles_in;
