@@ -108,7 +108,8 @@ void BM_Texture_FetchR_R8(benchmark::State& state) {
   int x0 = 0;
   for (auto _ : state) {
     float acc = 0.0f;
-    for (int i = 0; i < kBatch; ++i) acc += t.fetch_r(0, (x0 + i) & (kSize - 1), (i >> 3) & (kSize - 1));
+    for (int i = 0; i < kBatch; ++i)
+      acc += t.fetch_r(0, (x0 + i) & (kSize - 1), (i >> 3) & (kSize - 1));
     benchmark::DoNotOptimize(acc);
     x0 = (x0 + 1) & (kSize - 1);
   }

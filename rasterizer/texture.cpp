@@ -13,39 +13,60 @@ namespace relief {
 
 int format_channels(TexFormat f) {
   switch (f) {
-    case TexFormat::kR8: return 1;
-    case TexFormat::kRG8: return 2;
-    case TexFormat::kRGBA8: return 4;
-    case TexFormat::kR16: return 1;
-    case TexFormat::kR16F: return 1;
-    case TexFormat::kRGBA16F: return 4;
-    case TexFormat::kR32F: return 1;
+    case TexFormat::kR8:
+      return 1;
+    case TexFormat::kRG8:
+      return 2;
+    case TexFormat::kRGBA8:
+      return 4;
+    case TexFormat::kR16:
+      return 1;
+    case TexFormat::kR16F:
+      return 1;
+    case TexFormat::kRGBA16F:
+      return 4;
+    case TexFormat::kR32F:
+      return 1;
   }
   return 0;
 }
 
 int format_bytes_per_texel(TexFormat f) {
   switch (f) {
-    case TexFormat::kR8: return 1;
-    case TexFormat::kRG8: return 2;
-    case TexFormat::kRGBA8: return 4;
-    case TexFormat::kR16: return 2;
-    case TexFormat::kR16F: return 2;
-    case TexFormat::kRGBA16F: return 8;
-    case TexFormat::kR32F: return 4;
+    case TexFormat::kR8:
+      return 1;
+    case TexFormat::kRG8:
+      return 2;
+    case TexFormat::kRGBA8:
+      return 4;
+    case TexFormat::kR16:
+      return 2;
+    case TexFormat::kR16F:
+      return 2;
+    case TexFormat::kRGBA16F:
+      return 8;
+    case TexFormat::kR32F:
+      return 4;
   }
   return 0;
 }
 
 const char* format_name(TexFormat f) {
   switch (f) {
-    case TexFormat::kR8: return "R8";
-    case TexFormat::kRG8: return "RG8";
-    case TexFormat::kRGBA8: return "RGBA8";
-    case TexFormat::kR16: return "R16";
-    case TexFormat::kR16F: return "R16F";
-    case TexFormat::kRGBA16F: return "RGBA16F";
-    case TexFormat::kR32F: return "R32F";
+    case TexFormat::kR8:
+      return "R8";
+    case TexFormat::kRG8:
+      return "RG8";
+    case TexFormat::kRGBA8:
+      return "RGBA8";
+    case TexFormat::kR16:
+      return "R16";
+    case TexFormat::kR16F:
+      return "R16F";
+    case TexFormat::kRGBA16F:
+      return "RGBA16F";
+    case TexFormat::kR32F:
+      return "R32F";
   }
   return "?";
 }
@@ -86,9 +107,9 @@ uint16_t float_to_half(float f) {
   std::memcpy(&bits, &f, sizeof bits);
   const uint16_t sign = static_cast<uint16_t>((bits >> 16) & 0x8000u);
   const uint32_t abs = bits & 0x7fffffffu;
-  if (abs > 0x7f800000u) return 0;                                 // NaN
+  if (abs > 0x7f800000u) return 0;                                       // NaN
   if (abs >= 0x477ff000u) return static_cast<uint16_t>(sign | 0x7bffu);  // >= 65520 rounds past max
-  if (abs >= 0x38800000u) {                                        // normal half range (>= 2^-14)
+  if (abs >= 0x38800000u) {  // normal half range (>= 2^-14)
     const uint32_t e = (abs >> 23) - 112u;
     const uint32_t m = abs & 0x7fffffu;
     uint32_t h = (e << 10) | (m >> 13);
@@ -167,7 +188,9 @@ template <>
 struct Codec<TexFormat::kR8> {
   static constexpr int kBytes = 1;
   static float r(const uint8_t* p, const float* lut) { return lut[p[0]]; }
-  static glm::vec4 rgba(const uint8_t* p, const float* lut) { return {lut[p[0]], 0.0f, 0.0f, 1.0f}; }
+  static glm::vec4 rgba(const uint8_t* p, const float* lut) {
+    return {lut[p[0]], 0.0f, 0.0f, 1.0f};
+  }
 };
 template <>
 struct Codec<TexFormat::kRG8> {
@@ -193,7 +216,9 @@ struct Codec<TexFormat::kR16> {
     std::memcpy(&v, p, 2);
     return static_cast<float>(v) * kInv65535;
   }
-  static glm::vec4 rgba(const uint8_t* p, const float* lut) { return {r(p, lut), 0.0f, 0.0f, 1.0f}; }
+  static glm::vec4 rgba(const uint8_t* p, const float* lut) {
+    return {r(p, lut), 0.0f, 0.0f, 1.0f};
+  }
 };
 template <>
 struct Codec<TexFormat::kR16F> {
@@ -203,7 +228,9 @@ struct Codec<TexFormat::kR16F> {
     std::memcpy(&v, p, 2);
     return half_to_float(v);
   }
-  static glm::vec4 rgba(const uint8_t* p, const float* lut) { return {r(p, lut), 0.0f, 0.0f, 1.0f}; }
+  static glm::vec4 rgba(const uint8_t* p, const float* lut) {
+    return {r(p, lut), 0.0f, 0.0f, 1.0f};
+  }
 };
 template <>
 struct Codec<TexFormat::kRGBA16F> {
@@ -227,20 +254,29 @@ struct Codec<TexFormat::kR32F> {
     std::memcpy(&v, p, 4);
     return v;
   }
-  static glm::vec4 rgba(const uint8_t* p, const float* lut) { return {r(p, lut), 0.0f, 0.0f, 1.0f}; }
+  static glm::vec4 rgba(const uint8_t* p, const float* lut) {
+    return {r(p, lut), 0.0f, 0.0f, 1.0f};
+  }
 };
 
 // Calls f(std::integral_constant<TexFormat, F>{}) for the runtime format: one switch per call.
 template <class Fn>
 decltype(auto) dispatch(TexFormat format, Fn&& f) {
   switch (format) {
-    case TexFormat::kR8: return f(std::integral_constant<TexFormat, TexFormat::kR8>{});
-    case TexFormat::kRG8: return f(std::integral_constant<TexFormat, TexFormat::kRG8>{});
-    case TexFormat::kRGBA8: return f(std::integral_constant<TexFormat, TexFormat::kRGBA8>{});
-    case TexFormat::kR16: return f(std::integral_constant<TexFormat, TexFormat::kR16>{});
-    case TexFormat::kR16F: return f(std::integral_constant<TexFormat, TexFormat::kR16F>{});
-    case TexFormat::kRGBA16F: return f(std::integral_constant<TexFormat, TexFormat::kRGBA16F>{});
-    case TexFormat::kR32F: return f(std::integral_constant<TexFormat, TexFormat::kR32F>{});
+    case TexFormat::kR8:
+      return f(std::integral_constant<TexFormat, TexFormat::kR8>{});
+    case TexFormat::kRG8:
+      return f(std::integral_constant<TexFormat, TexFormat::kRG8>{});
+    case TexFormat::kRGBA8:
+      return f(std::integral_constant<TexFormat, TexFormat::kRGBA8>{});
+    case TexFormat::kR16:
+      return f(std::integral_constant<TexFormat, TexFormat::kR16>{});
+    case TexFormat::kR16F:
+      return f(std::integral_constant<TexFormat, TexFormat::kR16F>{});
+    case TexFormat::kRGBA16F:
+      return f(std::integral_constant<TexFormat, TexFormat::kRGBA16F>{});
+    case TexFormat::kR32F:
+      return f(std::integral_constant<TexFormat, TexFormat::kR32F>{});
   }
   return f(std::integral_constant<TexFormat, TexFormat::kR8>{});
 }
@@ -380,8 +416,8 @@ inline Out decode(const uint8_t* p, const float* lut) {
 
 template <TexFormat F, class Out>
 inline Out sample_nearest(const Level& L, const SamplerState& s, glm::vec2 uv, const float* lut) {
-  const int x = wrap_coord(static_cast<int>(std::floor(scaled_coord(uv.x, L.width, 0.0f))),
-                           L.width, s.wrap_u);
+  const int x = wrap_coord(static_cast<int>(std::floor(scaled_coord(uv.x, L.width, 0.0f))), L.width,
+                           s.wrap_u);
   const int y = wrap_coord(static_cast<int>(std::floor(scaled_coord(uv.y, L.height, 0.0f))),
                            L.height, s.wrap_v);
   const size_t off = (static_cast<size_t>(y) * L.width + x) * Codec<F>::kBytes;
@@ -590,10 +626,14 @@ float Texture::fetch_r(int level, int x, int y) const {
           color_space_ == ColorSpace::kSRGB ? tables().srgb8.data() : tables().unorm8.data();
       return lut[d[idx * format_bytes_per_texel(format_)]];
     }
-    case TexFormat::kR16: return Codec<TexFormat::kR16>::r(d + idx * 2, nullptr);
-    case TexFormat::kR16F: return Codec<TexFormat::kR16F>::r(d + idx * 2, nullptr);
-    case TexFormat::kRGBA16F: return Codec<TexFormat::kRGBA16F>::r(d + idx * 8, nullptr);
-    case TexFormat::kR32F: return Codec<TexFormat::kR32F>::r(d + idx * 4, nullptr);
+    case TexFormat::kR16:
+      return Codec<TexFormat::kR16>::r(d + idx * 2, nullptr);
+    case TexFormat::kR16F:
+      return Codec<TexFormat::kR16F>::r(d + idx * 2, nullptr);
+    case TexFormat::kRGBA16F:
+      return Codec<TexFormat::kRGBA16F>::r(d + idx * 8, nullptr);
+    case TexFormat::kR32F:
+      return Codec<TexFormat::kR32F>::r(d + idx * 4, nullptr);
   }
   return 0.0f;
 }
@@ -610,14 +650,16 @@ float compute_lod(const Texture& t, glm::vec2 duv_dx, glm::vec2 duv_dy) {
 
 glm::vec4 sample_lod(const Texture& t, const SamplerState& s, glm::vec2 uv, float lod) {
   DCHECK(!t.empty());
-  return dispatch(t.format(),
-                  [&](auto fc) { return sample_lod_impl<decltype(fc)::value, glm::vec4>(t, s, uv, lod); });
+  return dispatch(t.format(), [&](auto fc) {
+    return sample_lod_impl<decltype(fc)::value, glm::vec4>(t, s, uv, lod);
+  });
 }
 
 float sample_r_lod(const Texture& t, const SamplerState& s, glm::vec2 uv, float lod) {
   DCHECK(!t.empty());
-  return dispatch(t.format(),
-                  [&](auto fc) { return sample_lod_impl<decltype(fc)::value, float>(t, s, uv, lod); });
+  return dispatch(t.format(), [&](auto fc) {
+    return sample_lod_impl<decltype(fc)::value, float>(t, s, uv, lod);
+  });
 }
 
 glm::vec4 sample_grad(const Texture& t, const SamplerState& s, glm::vec2 uv, glm::vec2 duv_dx,

@@ -41,12 +41,20 @@ double srgb_encode(double c) {
   return c <= 0.0031308 ? c * 12.92 : 1.055 * std::pow(c, 1.0 / 2.4) - 0.055;
 }
 
-float finite_or_zero(float v) { return std::isfinite(v) ? v : 0.0f; }
+float finite_or_zero(float v) {
+  return std::isfinite(v) ? v : 0.0f;
+}
 
-double clamp01(double v) { return v > 0.0 ? (v < 1.0 ? v : 1.0) : 0.0; }
+double clamp01(double v) {
+  return v > 0.0 ? (v < 1.0 ? v : 1.0) : 0.0;
+}
 
-uint8_t to_u8(double v) { return static_cast<uint8_t>(std::lround(clamp01(v) * 255.0)); }
-uint16_t to_u16(double v) { return static_cast<uint16_t>(std::lround(clamp01(v) * 65535.0)); }
+uint8_t to_u8(double v) {
+  return static_cast<uint8_t>(std::lround(clamp01(v) * 255.0));
+}
+uint16_t to_u16(double v) {
+  return static_cast<uint16_t>(std::lround(clamp01(v) * 65535.0));
+}
 
 enum class Depth { k8, k16, kHalf, kFloat };
 
@@ -83,11 +91,19 @@ Status open_input(const std::string& path, Input& out) {
   out.channels = spec.nchannels;
   switch (spec.format.basetype) {
     case OIIO::TypeDesc::UINT8:
-    case OIIO::TypeDesc::INT8: out.depth = Depth::k8; break;
+    case OIIO::TypeDesc::INT8:
+      out.depth = Depth::k8;
+      break;
     case OIIO::TypeDesc::UINT16:
-    case OIIO::TypeDesc::INT16: out.depth = Depth::k16; break;
-    case OIIO::TypeDesc::HALF: out.depth = Depth::kHalf; break;
-    default: out.depth = Depth::kFloat; break;
+    case OIIO::TypeDesc::INT16:
+      out.depth = Depth::k16;
+      break;
+    case OIIO::TypeDesc::HALF:
+      out.depth = Depth::kHalf;
+      break;
+    default:
+      out.depth = Depth::kFloat;
+      break;
   }
   return Status();
 }
@@ -124,7 +140,8 @@ Status write_atomic(const std::string& path, const char* oiio_format, OIIO::Imag
     fs::remove(tmp, ignored);
   };
   std::unique_ptr<OIIO::ImageOutput> out = OIIO::ImageOutput::create(oiio_format);
-  if (!out) return fail(path, std::string("no ") + oiio_format + " writer: " + one_line(OIIO::geterror()));
+  if (!out)
+    return fail(path, std::string("no ") + oiio_format + " writer: " + one_line(OIIO::geterror()));
   if (!out->open(tmp.string(), spec)) {
     const std::string err = one_line(out->geterror());
     out.reset();
@@ -178,7 +195,8 @@ Result<Texture> load_texture(const std::string& path, const TextureLoadOptions& 
     for (size_t i = 0; i < n; ++i)
       for (int c = 0; c < src_ch; ++c) texels[i * dst_ch + c] = src[i * src_ch + c];
     if (opts.height_to_depth)
-      for (size_t i = 0; i < n; ++i) texels[i * dst_ch] = static_cast<uint8_t>(255 - texels[i * dst_ch]);
+      for (size_t i = 0; i < n; ++i)
+        texels[i * dst_ch] = static_cast<uint8_t>(255 - texels[i * dst_ch]);
     return Texture(f, in.width, in.height, texels.data(), opts.color_space);
   }
 

@@ -36,8 +36,10 @@ std::vector<float> random_values(int n, uint64_t seed, double lo = 0.0, double h
 int ref_wrap(long long i, int size, Wrap w) {
   const long long n = size;
   switch (w) {
-    case Wrap::kRepeat: return static_cast<int>(((i % n) + n) % n);
-    case Wrap::kClamp: return static_cast<int>(i < 0 ? 0 : (i >= n ? n - 1 : i));
+    case Wrap::kRepeat:
+      return static_cast<int>(((i % n) + n) % n);
+    case Wrap::kClamp:
+      return static_cast<int>(i < 0 ? 0 : (i >= n ? n - 1 : i));
     case Wrap::kMirror: {
       const long long m = ((i % (2 * n)) + 2 * n) % (2 * n);
       return static_cast<int>(m < n ? m : 2 * n - 1 - m);
@@ -84,8 +86,8 @@ SamplerState sampler(Filter f, Wrap wu = Wrap::kRepeat, Wrap wv = Wrap::kRepeat)
   return s;
 }
 
-constexpr TexFormat kAllFormats[] = {TexFormat::kR8,  TexFormat::kRG8,     TexFormat::kRGBA8,
-                                     TexFormat::kR16, TexFormat::kR16F,    TexFormat::kRGBA16F,
+constexpr TexFormat kAllFormats[] = {TexFormat::kR8,  TexFormat::kRG8,  TexFormat::kRGBA8,
+                                     TexFormat::kR16, TexFormat::kR16F, TexFormat::kRGBA16F,
                                      TexFormat::kR32F};
 constexpr Wrap kAllWraps[] = {Wrap::kRepeat, Wrap::kClamp, Wrap::kMirror};
 constexpr Filter kAllFilters[] = {Filter::kNearest, Filter::kBilinear, Filter::kTrilinear,
@@ -118,11 +120,19 @@ TEST(Texture, FormatsRoundTripWithinPrecision) {
     switch (f) {
       case TexFormat::kR8:
       case TexFormat::kRG8:
-      case TexFormat::kRGBA8: tol = 0.5f / 255.0f + 1e-6f; break;
-      case TexFormat::kR16: tol = 0.5f / 65535.0f + 1e-7f; break;
+      case TexFormat::kRGBA8:
+        tol = 0.5f / 255.0f + 1e-6f;
+        break;
+      case TexFormat::kR16:
+        tol = 0.5f / 65535.0f + 1e-7f;
+        break;
       case TexFormat::kR16F:
-      case TexFormat::kRGBA16F: tol = 1.0f / 2048.0f; break;  // half ulp of values < 1
-      case TexFormat::kR32F: tol = 0.0f; break;
+      case TexFormat::kRGBA16F:
+        tol = 1.0f / 2048.0f;
+        break;  // half ulp of values < 1
+      case TexFormat::kR32F:
+        tol = 0.0f;
+        break;
     }
     for (int y = 0; y < h; ++y)
       for (int x = 0; x < w; ++x) {
@@ -139,23 +149,31 @@ TEST(Texture, FormatsRoundTripWithinPrecision) {
 TEST(Texture, HalfFloatEncodingAndDecoding) {
   // Raw half bits decode exactly.
   const uint16_t bits[] = {0x3c00, 0xc000, 0x0001, 0x03ff, 0x7bff, 0x3555, 0x8000};
-  const float want[] = {1.0f, -2.0f, std::ldexp(1.0f, -24), std::ldexp(1023.0f, -24), 65504.0f,
-                        0.333251953125f, -0.0f};
+  const float want[] = {
+      1.0f, -2.0f, std::ldexp(1.0f, -24), std::ldexp(1023.0f, -24), 65504.0f, 0.333251953125f,
+      -0.0f};
   const Texture t(TexFormat::kR16F, 7, 1, bits);
   for (int i = 0; i < 7; ++i) EXPECT_EQ(t.fetch_r(0, i, 0), want[i]) << i;
 
   // Encoding: exact values stay exact; ties round to even; overflow saturates; NaN is 0.
   const float in[] = {0.5f,
-                      1.0f + std::ldexp(1.0f, -11),        // tie between 1 and 1+2^-10 -> 1
-                      1.0f + 3 * std::ldexp(1.0f, -11),    // tie -> 1 + 2^-9 (even)
+                      1.0f + std::ldexp(1.0f, -11),      // tie between 1 and 1+2^-10 -> 1
+                      1.0f + 3 * std::ldexp(1.0f, -11),  // tie -> 1 + 2^-9 (even)
                       1e6f,
                       -1e6f,
                       std::numeric_limits<float>::quiet_NaN(),
                       std::ldexp(1.0f, -24),
-                      std::ldexp(1.0f, -26),               // below half the smallest subnormal
-                      std::ldexp(3.0f, -25)};              // 1.5 subnormal steps -> 2 (even)
-  const float out[] = {0.5f,     1.0f, 1.0f + std::ldexp(1.0f, -9), 65504.0f, -65504.0f, 0.0f,
-                       std::ldexp(1.0f, -24), 0.0f, std::ldexp(2.0f, -24)};
+                      std::ldexp(1.0f, -26),   // below half the smallest subnormal
+                      std::ldexp(3.0f, -25)};  // 1.5 subnormal steps -> 2 (even)
+  const float out[] = {0.5f,
+                       1.0f,
+                       1.0f + std::ldexp(1.0f, -9),
+                       65504.0f,
+                       -65504.0f,
+                       0.0f,
+                       std::ldexp(1.0f, -24),
+                       0.0f,
+                       std::ldexp(2.0f, -24)};
   const Texture e = Texture::from_floats(TexFormat::kR16F, 9, 1, in);
   for (int i = 0; i < 9; ++i) EXPECT_EQ(e.fetch_r(0, i, 0), out[i]) << i;
 
@@ -171,7 +189,8 @@ TEST(Texture, HalfFloatEncodingAndDecoding) {
 }
 
 TEST(Texture, NonFiniteStoredValuesAreSanitized) {
-  const float in[] = {std::numeric_limits<float>::quiet_NaN(), std::numeric_limits<float>::infinity(),
+  const float in[] = {std::numeric_limits<float>::quiet_NaN(),
+                      std::numeric_limits<float>::infinity(),
                       -std::numeric_limits<float>::infinity(), 2.0f};
   const Texture t(TexFormat::kR32F, 4, 1, in);
   EXPECT_EQ(t.fetch_r(0, 0, 0), 0.0f);
@@ -231,9 +250,8 @@ TEST(Texture, NearestWrapModes) {
   };
   // Texel index i = floor(4u); values worked out by hand from GL's wrap table.
   const Case cases[] = {
-      {0.10f, 0, 0, 0},  {0.60f, 2, 2, 2},  {-0.10f, 3, 0, 0}, {-0.30f, 2, 0, 1},
-      {1.10f, 0, 3, 3},  {1.90f, 3, 3, 0},  {2.10f, 0, 3, 0},  {-1.10f, 3, 0, 3},
-      {-1.90f, 0, 0, 0}, {5.60f, 2, 3, 1},
+      {0.10f, 0, 0, 0}, {0.60f, 2, 2, 2}, {-0.10f, 3, 0, 0}, {-0.30f, 2, 0, 1}, {1.10f, 0, 3, 3},
+      {1.90f, 3, 3, 0}, {2.10f, 0, 3, 0}, {-1.10f, 3, 0, 3}, {-1.90f, 0, 0, 0}, {5.60f, 2, 3, 1},
   };
   for (const Case& c : cases) {
     EXPECT_EQ(sample_r_lod(t, sampler(Filter::kNearest, Wrap::kRepeat), {c.u, 0.5f}, 0), c.repeat)
@@ -245,23 +263,29 @@ TEST(Texture, NearestWrapModes) {
   }
   // The v axis wraps independently of u.
   const Texture tv = Texture::from_floats(TexFormat::kR32F, 1, 4, v);
-  EXPECT_EQ(sample_r_lod(tv, sampler(Filter::kNearest, Wrap::kClamp, Wrap::kRepeat), {7.0f, -0.1f}, 0),
-            3.0f);
-  EXPECT_EQ(sample_r_lod(tv, sampler(Filter::kNearest, Wrap::kRepeat, Wrap::kMirror), {7.0f, -0.1f}, 0),
-            0.0f);
+  EXPECT_EQ(
+      sample_r_lod(tv, sampler(Filter::kNearest, Wrap::kClamp, Wrap::kRepeat), {7.0f, -0.1f}, 0),
+      3.0f);
+  EXPECT_EQ(
+      sample_r_lod(tv, sampler(Filter::kNearest, Wrap::kRepeat, Wrap::kMirror), {7.0f, -0.1f}, 0),
+      0.0f);
 }
 
 TEST(Texture, BilinearWrapModesAtTheEdge) {
   const float v[] = {0.0f, 1.0f, 2.0f, 3.0f};
   const Texture t = Texture::from_floats(TexFormat::kR32F, 4, 1, v);
   // u = 0: halfway between texel -1 and texel 0.
-  EXPECT_FLOAT_EQ(sample_r_lod(t, sampler(Filter::kBilinear, Wrap::kRepeat), {0.0f, 0.5f}, 0), 1.5f);
+  EXPECT_FLOAT_EQ(sample_r_lod(t, sampler(Filter::kBilinear, Wrap::kRepeat), {0.0f, 0.5f}, 0),
+                  1.5f);
   EXPECT_FLOAT_EQ(sample_r_lod(t, sampler(Filter::kBilinear, Wrap::kClamp), {0.0f, 0.5f}, 0), 0.0f);
-  EXPECT_FLOAT_EQ(sample_r_lod(t, sampler(Filter::kBilinear, Wrap::kMirror), {0.0f, 0.5f}, 0), 0.0f);
+  EXPECT_FLOAT_EQ(sample_r_lod(t, sampler(Filter::kBilinear, Wrap::kMirror), {0.0f, 0.5f}, 0),
+                  0.0f);
   // u = 1: halfway between texel 3 and texel 4.
-  EXPECT_FLOAT_EQ(sample_r_lod(t, sampler(Filter::kBilinear, Wrap::kRepeat), {1.0f, 0.5f}, 0), 1.5f);
+  EXPECT_FLOAT_EQ(sample_r_lod(t, sampler(Filter::kBilinear, Wrap::kRepeat), {1.0f, 0.5f}, 0),
+                  1.5f);
   EXPECT_FLOAT_EQ(sample_r_lod(t, sampler(Filter::kBilinear, Wrap::kClamp), {1.0f, 0.5f}, 0), 3.0f);
-  EXPECT_FLOAT_EQ(sample_r_lod(t, sampler(Filter::kBilinear, Wrap::kMirror), {1.0f, 0.5f}, 0), 3.0f);
+  EXPECT_FLOAT_EQ(sample_r_lod(t, sampler(Filter::kBilinear, Wrap::kMirror), {1.0f, 0.5f}, 0),
+                  3.0f);
   // A quarter texel outside on the left: repeat blends texel 3 and 0, mirror texel 0 and 0.
   EXPECT_FLOAT_EQ(sample_r_lod(t, sampler(Filter::kBilinear, Wrap::kRepeat), {-1.0f / 16, 0.5f}, 0),
                   0.75f * 3.0f);
@@ -299,8 +323,8 @@ TEST(Texture, NearestAndBilinearPickTheNearestLevel) {
   ASSERT_EQ(t.levels(), 6);
   Lcg r(4);
   // (lod, level) pairs from GL's *_MIPMAP_NEAREST rule: d = ceil(lod + 1/2) - 1, clamped.
-  const std::pair<float, int> picks[] = {{0.3f, 0}, {0.5f, 0}, {0.51f, 1}, {1.49f, 1},
-                                         {1.51f, 2}, {3.7f, 4}, {4.6f, 5}, {9.0f, 5}};
+  const std::pair<float, int> picks[] = {{0.3f, 0},  {0.5f, 0}, {0.51f, 1}, {1.49f, 1},
+                                         {1.51f, 2}, {3.7f, 4}, {4.6f, 5},  {9.0f, 5}};
   for (auto [lod, level] : picks)
     for (int k = 0; k < 10; ++k) {
       const float u = r.uniform(-1.0, 2.0), v = r.uniform(-1.0, 2.0);
@@ -331,7 +355,8 @@ TEST(Texture, TrilinearMatchesFloatReference) {
       } else {
         const int d = static_cast<int>(std::floor(lod));
         const double f = lod - d;
-        want = (1 - f) * ref_bilinear_r(t, d, w, w, u, v) + f * ref_bilinear_r(t, d + 1, w, w, u, v);
+        want =
+            (1 - f) * ref_bilinear_r(t, d, w, w, u, v) + f * ref_bilinear_r(t, d + 1, w, w, u, v);
       }
       EXPECT_NEAR(sample_r_lod(t, s, {u, v}, lod), want, 3e-6) << u << "," << v << " lod " << lod;
       EXPECT_NEAR(sample_lod(t, s, {u, v}, lod).x, want, 3e-6);
@@ -457,9 +482,10 @@ TEST(Texture, MipChainPowerOfTwoAverages2x2Blocks) {
   EXPECT_EQ(t.height(3), 1);
   for (int y = 0; y < 2; ++y)
     for (int x = 0; x < 4; ++x) {
-      const double want = (static_cast<double>(t.fetch_r(0, 2 * x, 2 * y)) + t.fetch_r(0, 2 * x + 1, 2 * y) +
-                           t.fetch_r(0, 2 * x, 2 * y + 1) + t.fetch_r(0, 2 * x + 1, 2 * y + 1)) /
-                          4;
+      const double want =
+          (static_cast<double>(t.fetch_r(0, 2 * x, 2 * y)) + t.fetch_r(0, 2 * x + 1, 2 * y) +
+           t.fetch_r(0, 2 * x, 2 * y + 1) + t.fetch_r(0, 2 * x + 1, 2 * y + 1)) /
+          4;
       EXPECT_NEAR(t.fetch_r(1, x, y), want, 1e-6);
     }
   // The 4x2 -> 2x1 -> 1x1 levels: the last one is the mean of everything.
@@ -497,7 +523,9 @@ TEST(Texture, MipReductionsOnNonPowerOfTwoSizes) {
           mx = std::max(mx, at(x, y));
           sum += wgt * at(x, y);
         }
-      const double want = reduce == MipReduce::kMin ? mn : reduce == MipReduce::kMax ? mx : sum / 7.5;
+      const double want = reduce == MipReduce::kMin   ? mn
+                          : reduce == MipReduce::kMax ? mx
+                                                      : sum / 7.5;
       EXPECT_NEAR(t.fetch_r(1, i, 0), want, 1e-6) << static_cast<int>(reduce) << " texel " << i;
     }
     const double last = reduce == MipReduce::kMin ? gmin : reduce == MipReduce::kMax ? gmax : gmean;

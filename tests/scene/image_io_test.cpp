@@ -40,7 +40,8 @@ class ImageIo : public ::testing::Test {
   std::string path(const std::string& name) const { return (dir_ / name).string(); }
   std::vector<std::string> listing() const {
     std::vector<std::string> names;
-    for (const auto& e : fs::directory_iterator(dir_)) names.push_back(e.path().filename().string());
+    for (const auto& e : fs::directory_iterator(dir_))
+      names.push_back(e.path().filename().string());
     std::sort(names.begin(), names.end());
     return names;
   }
@@ -195,7 +196,8 @@ TEST_F(ImageIo, PlaneRoundTrips) {
   const Result<Texture> png = load_texture(path("d.png"));
   ASSERT_TRUE(png.ok()) << png.status().message();
   EXPECT_EQ(png->format(), TexFormat::kR16);
-  for (int i = 0; i < 12; ++i) EXPECT_NEAR(png->fetch_r(0, i % 4, i / 4), p.values[i], 0.5 / 65535 + 1e-7);
+  for (int i = 0; i < 12; ++i)
+    EXPECT_NEAR(png->fetch_r(0, i % 4, i / 4), p.values[i], 0.5 / 65535 + 1e-7);
   const Result<Image> grey = read_image(path("d.png"));
   ASSERT_TRUE(grey.ok());
   EXPECT_NEAR(grey->at(1, 0).g, p.values[1], 1e-4);  // 16-bit: linear, grey in r, g, b
@@ -245,8 +247,8 @@ TEST_F(ImageIo, LoadTextureChoosesFormatFromTheFile) {
   EXPECT_EQ(t.level(0).data, std::vector<uint8_t>(ga8, ga8 + 8));
   t = load("rgb8.png");
   EXPECT_EQ(t.format(), TexFormat::kRGBA8);
-  EXPECT_EQ(t.level(0).data, (std::vector<uint8_t>{1, 2, 3, 255, 4, 5, 6, 255, 7, 8, 9, 255, 10,
-                                                   11, 12, 255}));
+  EXPECT_EQ(t.level(0).data,
+            (std::vector<uint8_t>{1, 2, 3, 255, 4, 5, 6, 255, 7, 8, 9, 255, 10, 11, 12, 255}));
   t = load("rgba8.png");
   EXPECT_EQ(t.format(), TexFormat::kRGBA8);
   EXPECT_EQ(t.level(0).data, std::vector<uint8_t>(rgba8, rgba8 + 16));  // alpha not premultiplied
@@ -256,7 +258,8 @@ TEST_F(ImageIo, LoadTextureChoosesFormatFromTheFile) {
   EXPECT_EQ(t.fetch_r(0, 1, 1), 1.0f);
   t = load("rgb16.tif");
   EXPECT_EQ(t.format(), TexFormat::kRGBA16F);
-  EXPECT_EQ(t.fetch(0, 0, 0), glm::vec4(0.0f, 1.0f, 0.5f, 1.0f));  // 32768/65535 rounds to 0.5 in half
+  EXPECT_EQ(t.fetch(0, 0, 0),
+            glm::vec4(0.0f, 1.0f, 0.5f, 1.0f));  // 32768/65535 rounds to 0.5 in half
   t = load("f1.exr");
   EXPECT_EQ(t.format(), TexFormat::kR32F);
   EXPECT_EQ(t.fetch_r(0, 0, 0), -1.5f);
@@ -376,14 +379,16 @@ TEST_F(ImageIo, LoadErrors) {
   expect_one_line_naming(load_texture(garbage).status(), garbage);
   expect_one_line_naming(read_image(garbage).status(), garbage);
 
-  // A truncated PNG: valid header, missing data.
-  ASSERT_TRUE(write_image(path("full.png"), test_image(64, 64, false)).ok());
+  // A truncated file: valid header, missing data. (EXR: OIIO 2.4's PNG reader leaks a string
+  // when libpng aborts mid-file, which an ASan build would report.)
+  ASSERT_TRUE(write_image(path("full.exr"), test_image(64, 64, false)).ok());
   {
-    std::ifstream in(path("full.png"), std::ios::binary);
+    std::ifstream in(path("full.exr"), std::ios::binary);
     std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-    std::ofstream(path("cut.png"), std::ios::binary) << bytes.substr(0, bytes.size() / 2);
+    std::ofstream(path("cut.exr"), std::ios::binary) << bytes.substr(0, bytes.size() / 2);
   }
-  expect_one_line_naming(load_texture(path("cut.png")).status(), path("cut.png"));
+  expect_one_line_naming(load_texture(path("cut.exr")).status(), path("cut.exr"));
+  expect_one_line_naming(read_image(path("cut.exr")).status(), path("cut.exr"));
 
   fs::create_directories(path("adir.png"));
   expect_one_line_naming(load_texture(path("adir.png")).status(), path("adir.png"));
