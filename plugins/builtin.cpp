@@ -8,6 +8,11 @@ void register_builtin_plugins(PluginRegistry& r) {
   for (const PluginDescriptor* p : {
            &kFlatPlugin,
            &kNormalPlugin,
+           &kParallaxPlugin,
+           &kSteepParallaxPlugin,
+           &kPomPlugin,
+           &kReliefPlugin,
+           &kExactPlugin,
        }) {
     CHECK(r.add(p).ok());
   }

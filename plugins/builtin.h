@@ -7,5 +7,10 @@ namespace relief {
 
 extern const PluginDescriptor kFlatPlugin;
 extern const PluginDescriptor kNormalPlugin;
+extern const PluginDescriptor kParallaxPlugin;
+extern const PluginDescriptor kSteepParallaxPlugin;
+extern const PluginDescriptor kPomPlugin;
+extern const PluginDescriptor kReliefPlugin;
+extern const PluginDescriptor kExactPlugin;
 
 }  // namespace relief

@@ -105,7 +105,7 @@ Result<Scene> make_plane() {
   auto normal = std::make_shared<Texture>(normal_map_from_depth(*depth, depth_scale, true));
   Material mat;
   mat.name = "bricks";
-  mat.technique = "normal";
+  mat.technique = "relief";
   mat.params = {{"depth_scale", depth_scale}};
   mat.textures = {{"base_color", color}, {"depth", depth}, {"normal", normal}};
   mat.self_shadow = true;

@@ -32,7 +32,7 @@ bool identical(const Framebuffer& a, const Framebuffer& b) {
 }
 
 TEST(Determinism, PlaneIsBitIdenticalForAnyThreadCountAndTileSize) {
-  for (const char* technique : {"flat", "normal"}) {
+  for (const char* technique : {"flat", "normal", "relief", "pom", "exact"}) {
     const RenderResult ref = render_plane(1, 64, technique);
     for (auto [threads, tile] : {std::pair{2, 64}, std::pair{7, 64}, std::pair{2, 16},
                                  std::pair{7, 128}}) {
@@ -44,7 +44,7 @@ TEST(Determinism, PlaneIsBitIdenticalForAnyThreadCountAndTileSize) {
 }
 
 TEST(Determinism, ScalarAndSimdLanesAgreeBitForBit) {
-  for (const char* technique : {"flat", "normal"}) {
+  for (const char* technique : {"flat", "normal", "parallax", "steep_parallax", "pom", "relief"}) {
     const RenderResult simd = render_plane(2, 64, technique, false);
     const RenderResult scalar = render_plane(2, 64, technique, true);
     EXPECT_TRUE(identical(simd.framebuffer, scalar.framebuffer)) << technique;
