@@ -1,0 +1,153 @@
+// The shell every height-field technique shares (parallax, steep_parallax, pom, relief, exact and
+// the cone family): the per-fragment tangent frame, the view ray in texture space, the constant
+// LOD per quad, depth correction of the hit, shading at the hit with the normal and base-colour
+// maps, and the self-shadow hook. Policarpo, Oliveira and Comba, "Real-Time Relief Mapping on
+// Arbitrary Polygonal Surfaces", I3D 2005 (figure 10 for the shadow ray, section 2 for the depth
+// correction) describe the frame the techniques differ inside of: only the search and the shadow
+// ray change from one plugin to the next.
+//
+// A technique is a policy struct:
+//   static constexpr int kDepthScale;  // schema index of "depth_scale"
+//   // first hit of the ray uv + t * (ds, 1) in depth units; active = covered lanes
+//   template <class F> static SearchHit<F> search(const ShadeContext&, const FragIn<F>&,
+//       const TextureDepth& depth, const V3<F>& view_tangent, const V2<F>& ds, mask_t<F> active);
+//   // visibility in [0, 1] of the hit towards a light whose tangent-space direction has z = lz and
+//   // texture-space step dl; adds its steps and fetches to `o`
+//   template <class F> static F shadow(const ShadeContext&, const TextureDepth& depth,
+//       const SearchHit<F>& hit, const V2<F>& dl, const F& lz, mask_t<F> lit, ShadeOut<F>& o);
+// and the plugin's descriptor takes `&select_relief_variant<Policy>` and `&relief_depth_output`.
+// Texture slots 0, 1, 2 are base_color, normal and depth in every plugin built on the shell.
+#pragma once
+
+#include "plugins/shading.h"
+#include "shaders_cpp/lighting.h"
+#include "shaders_cpp/ray.h"
+#include "shaders_cpp/search.h"
+#include "shaders_cpp/shadow.h"
+
+namespace relief {
+
+enum ReliefSlot { kBaseColorSlot = 0, kNormalSlot = 1, kDepthSlot = 2 };
+
+inline constexpr TextureSlotSpec kBaseColorSlotSpec = {
+    "base_color", false, "sRGB base colour, multiplied by the material's base colour"};
+inline constexpr TextureSlotSpec kNormalSlotSpec = {
+    "normal", false, "tangent-space normal map (x along +u, y along +v, z out), linear RGB"};
+inline constexpr TextureSlotSpec kDepthSlotSpec = {
+    "depth", true, "depth map: 0 at the reference surface, 1 deepest, linear"};
+inline constexpr TextureSlotSpec kReliefSlots[] = {kBaseColorSlotSpec, kNormalSlotSpec,
+                                                   kDepthSlotSpec};
+
+inline constexpr ParamSpec kDepthScaleSpec = {"depth_scale", ParamType::kFloat, 0.05f, 0.0f, 1.0f,
+                                              nullptr, "relief height in uv units"};
+inline constexpr ParamSpec kShadowStepsSpec = {
+    "shadow_steps", ParamType::kInt, 32.0f, 1.0f, 256.0f, nullptr,
+    "self-shadow ray steps over the full depth (self_shadow effect)"};
+
+// Lanes of this group that are real, covered fragments.
+template <class F> mask_t<F> covered_lanes(const FragIn<F>& in) {
+  mask_t<F> m = false_mask<F>();
+  for (int i = 0; i < lane_width<F>; ++i) {
+    const int ln = in.lane0 + i;
+    if ((ln >> 2) < in.packet->num_quads && in.packet->lane_covered(ln)) set_lane(m, i, true);
+  }
+  return m;
+}
+
+template <class Search, EffectMask kEffects> struct ReliefKernel {
+  static constexpr bool kShadow = (kEffects & kEffectSelfShadow) != 0;
+  static constexpr bool kDepth = (kEffects & (kEffectDepthWrite | kEffectShadowPass)) != 0;
+  static constexpr bool kShadowPass = (kEffects & kEffectShadowPass) != 0;
+
+  template <class F> static ShadeOut<F> shade(const ShadeContext& ctx, const FragIn<F>& in) {
+    const MaterialUniforms& m = *ctx.material;
+    ShadeOut<F> o;
+    V3<F> geo_n = in.normal;
+    if (!in.front_facing) geo_n = -geo_n;
+    const TangentFrame<F> tf = make_tangent_frame(geo_n, in.tangent, in.tangent_sign);
+    const V3<F> w = world_view_dir(in.position, ctx.frame->eye, ctx.frame->orthographic,
+                                   ctx.frame->view_dir, -tf.n);
+    const V3<F> V = tf.to_tangent(w);
+    const F depth_scale(m.params[Search::kDepthScale]);
+    const V2<F> ds = texture_step(V, depth_scale);
+    const mask_t<F> active = covered_lanes(in);
+    const Texture* dtex = m.textures[kDepthSlot];
+    TextureDepth depth;
+    depth.texture = dtex;
+    depth.sampler = &m.samplers[kDepthSlot];
+    SearchHit<F> hit{in.uv, F(0.0f), F(0.0f), F(0.0f)};
+    if (dtex) {
+      // constant LOD per quad, outside the loops
+      for (int i = 0; i < lane_width<F>; ++i)
+        depth.lod[i] = compute_lod(*dtex, {lane(in.duv_dx.x, i), lane(in.duv_dx.y, i)},
+                                   {lane(in.duv_dy.x, i), lane(in.duv_dy.y, i)});
+      hit = Search::search(ctx, in, depth, V, ds, active);
+    }
+    o.hit_uv = hit.uv;
+    o.hit_depth = hit.depth;
+    o.steps = hit.steps;
+    o.fetches = hit.fetches;
+    // world units per uv along T and B (scene/mesh_prep.cpp tile scale)
+    const F world_height = depth_scale * (in.tile_scale.x + in.tile_scale.y) * F(0.5f);
+    const V3<F> pos = hit_world_position(in.position, w, V.z, hit.depth, world_height);
+    if constexpr (kDepth) o.depth = vmin(reversed_z_depth(ctx.frame->view_proj, pos, in.frag_z), in.frag_z);
+    if constexpr (kShadowPass) {
+      return o;
+    } else {
+      V3<F> n = tf.n;
+      if (const Texture* t = m.textures[kNormalSlot]) {
+        const V4<F> c = texture_grad(*t, m.samplers[kNormalSlot], hit.uv, in.duv_dx, in.duv_dy);
+        n = normalize(tf.to_world(V3<F>(c.x * F(2.0f) - F(1.0f), c.y * F(2.0f) - F(1.0f),
+                                        c.z * F(2.0f) - F(1.0f))));
+        o.fetches += F(1.0f);
+      }
+      V3<F> albedo(glm::vec3(m.base_color));
+      if (const Texture* t = m.textures[kBaseColorSlot]) {
+        const V4<F> c = texture_grad(*t, m.samplers[kBaseColorSlot], hit.uv, in.duv_dx, in.duv_dy);
+        albedo = albedo * c.xyz();
+        o.fetches += F(1.0f);
+      }
+      // lighting at the displaced point
+      auto visibility = [&](int, V3<F> l, mask_t<F> lit) -> F {
+        if constexpr (kShadow) {
+          if (!dtex) return F(1.0f);
+          const V3<F> lt = tf.to_tangent(l);
+          return Search::shadow(ctx, depth, hit, light_step(lt, depth_scale), lt.z, active & lit, o);
+        } else {
+          return F(1.0f);
+        }
+      };
+      o.color = blinn_phong(*ctx.frame, m, pos, n, -w, albedo, visibility);
+      o.alpha = F(m.base_color.a);
+      o.shading_normal = n;
+      return o;
+    }
+  }
+};
+
+// The packet shader of `Search` for a combination of effects (one instantiation each).
+template <class Search> ShadeFn select_relief_variant(EffectMask e) {
+  constexpr EffectMask kS = kEffectSelfShadow, kD = kEffectDepthWrite;
+  if (e & kEffectShadowPass) return &shade_packet<ReliefKernel<Search, kEffectShadowPass>>;
+  if (e & kD)
+    return (e & kS) ? &shade_packet<ReliefKernel<Search, kS | kD>>
+                    : &shade_packet<ReliefKernel<Search, kD>>;
+  return (e & kS) ? &shade_packet<ReliefKernel<Search, kS>> : &shade_packet<ReliefKernel<Search, 0>>;
+}
+
+// Relief depth only moves away from the viewer: the conservative early test holds.
+inline DepthOutput relief_depth_output(EffectMask e) {
+  return (e & (kEffectDepthWrite | kEffectShadowPass)) ? DepthOutput::kFarther : DepthOutput::kNone;
+}
+
+// The marched self-shadow ray of shaders_cpp/shadow.h with a start offset `bias` in depth units.
+template <class F>
+F marched_shadow(const TextureDepth& depth, const SearchHit<F>& hit, const V2<F>& dl, const F& lz,
+                 int steps, float bias, mask_t<F> lit, ShadeOut<F>& o) {
+  const ShadowResult<F> sr = self_shadow(depth, hit.uv, hit.depth, dl, lz, steps, bias, lit);
+  o.shadow_steps += sr.steps;
+  o.fetches += sr.fetches;
+  return sr.visibility;
+}
+
+}  // namespace relief
