@@ -8,6 +8,7 @@
 #include <glm/geometric.hpp>
 
 #include "bake/normal_map.h"
+#include "rasterizer/check.h"
 #include "scene/mesh_prep.h"
 
 namespace relief {
@@ -21,7 +22,9 @@ uint32_t hash32(uint32_t x) {
   x ^= x >> 16;
   return x;
 }
-float hash01(uint32_t x) { return static_cast<float>(hash32(x) & 0xffffff) / 16777215.0f; }
+float hash01(uint32_t x) {
+  return static_cast<float>(hash32(x) & 0xffffff) / 16777215.0f;
+}
 
 // Running-bond bricks: 8 courses and 4 bricks per course per tile, half-brick offset on odd
 // courses. Depth 0 on brick faces (with a per-brick tilt of up to 0.08), 1 in the mortar,
@@ -44,7 +47,8 @@ BrickTile brick_at(float u, float v) {
   const float du = std::min(fu, 1.0f - fu) / per_course;
   const float dv = std::min(fv, 1.0f - fv) / courses;
   const float edge = std::min(du, dv);
-  const uint32_t id = static_cast<uint32_t>((row & 7) * 16 + ((col % per_course + per_course) % per_course));
+  const uint32_t id =
+      static_cast<uint32_t>((row & 7) * 16 + ((col % per_course + per_course) % per_course));
   BrickTile b;
   if (edge < mortar) {
     b.depth = 1.0f;
@@ -83,6 +87,42 @@ void make_bricks(int size, TexturePtr& depth, TexturePtr& color) {
   color = ct;
 }
 
+// Depth of the `pattern` tile at texel (x, y) of an n x n map (n a multiple of 16): quadrants of
+// smooth features (a dome on sine swells), sharp features (a pyramid and a cone on a flat top),
+// thin walls (a grid of one-texel walls and pillars over a deep floor) and terraces cut by
+// one-texel walls, separated by one-texel walls at x = 0, n / 2 and y = 0, n / 2.
+float pattern_depth_at(int x, int y, int n) {
+  const int h = n / 2;
+  if (x == 0 || y == 0 || x == h || y == h) return 0.0f;  // quadrant walls, one texel wide
+  const float px = (x % h) + 0.5f, py = (y % h) + 0.5f;   // position inside the quadrant
+  const float cx = px - 0.5f * h, cy = py - 0.5f * h;     // from the quadrant's centre
+  const float r = std::sqrt(cx * cx + cy * cy);
+  const float k = 2.0f * static_cast<float>(M_PI) / h;
+  if (x < h && y < h) {
+    // smooth: a spherical dome on sine swells
+    const float dome_r = 0.3f * h;
+    if (r < dome_r) return 1.0f - 0.85f * std::sqrt(1.0f - (r / dome_r) * (r / dome_r));
+    return 0.6f + 0.25f * std::sin(2.0f * k * px) * std::cos(3.0f * k * py);
+  }
+  if (y < h) {
+    // sharp: a pyramid (apex at depth 0) and a cone, on a flat top at depth 0.85
+    const float pyr = std::max(std::fabs(cx + 0.2f * h), std::fabs(cy + 0.2f * h)) / (0.22f * h);
+    const float cone = std::hypot(cx - 0.22f * h, cy - 0.22f * h) / (0.2f * h);
+    return std::min({0.85f, pyr, 0.1f + cone});
+  }
+  if (x < h) {
+    // thin: one-texel walls every 8 texels over a floor at depth 1, one-texel pillars between
+    const int lx = x % h, ly = y % h;
+    if (lx % 8 == 0 || ly % 8 == 0) return 0.0f;
+    if (lx % 8 == 4 && ly % 8 == 4 && ((lx / 8 + ly / 8) & 1)) return 0.05f;
+    return 1.0f;
+  }
+  // terraces: eight steps with sharp edges, crossed by one-texel diagonal walls
+  const int lx = x % h, ly = y % h;
+  if ((lx + ly) % 12 == 0) return 0.1f;
+  return 0.2f + 0.1f * static_cast<float>(std::min(7, lx * 8 / h));
+}
+
 Mesh make_quad(float half, float uv_tiles) {
   Mesh m;
   m.name = "quad";
@@ -95,16 +135,16 @@ Mesh make_quad(float half, float uv_tiles) {
   return m;
 }
 
-Result<Scene> make_plane() {
+// One relief-mapped quad (half size 4, `uv_tiles` repeats of the maps along each side) under a
+// sun, seen at 45 degrees: the frame shared by the built-in relief scenes.
+Scene relief_quad_scene(const std::string& name, float uv_tiles, const std::string& material,
+                        TexturePtr depth, TexturePtr color, float depth_scale) {
   Scene s;
-  s.name = "plane";
-  s.meshes.push_back(make_quad(4.0f, 8.0f));  // fills a 16:9 view
-  TexturePtr depth, color;
-  make_bricks(512, depth, color);
-  const float depth_scale = 0.06f;
+  s.name = name;
+  s.meshes.push_back(make_quad(4.0f, uv_tiles));  // fills a 16:9 view
   auto normal = std::make_shared<Texture>(normal_map_from_depth(*depth, depth_scale, true));
   Material mat;
-  mat.name = "bricks";
+  mat.name = material;
   mat.technique = "relief";
   mat.params = {{"depth_scale", depth_scale}};
   mat.textures = {{"base_color", color}, {"depth", depth}, {"normal", normal}};
@@ -132,19 +172,66 @@ Result<Scene> make_plane() {
   return s;
 }
 
+Result<Scene> make_plane() {
+  TexturePtr depth, color;
+  make_bricks(512, depth, color);
+  return relief_quad_scene("plane", 8.0f, "bricks", depth, color, 0.06f);
+}
+
+// The pattern's colour follows its depth (pale at the top, dark blue at the bottom) with a faint
+// 16-texel checker, so a missed wall shows as floor colour where the wall should be.
+TexturePtr make_pattern_color(const Texture& depth) {
+  const int n = depth.width(0);
+  std::vector<uint8_t> c(size_t(n) * n * 4);
+  for (int y = 0; y < n; ++y)
+    for (int x = 0; x < n; ++x) {
+      const float d = depth.fetch_r(0, x, y);
+      const float check = ((x / 16 + y / 16) & 1) ? 1.0f : 0.88f;
+      const glm::vec3 top(0.86f, 0.78f, 0.60f), deep(0.10f, 0.16f, 0.36f);
+      const glm::vec3 rgb = (top + (deep - top) * d) * check;
+      const size_t i = (size_t(y) * n + x) * 4;
+      for (int k = 0; k < 3; ++k) c[i + k] = static_cast<uint8_t>(std::lround(rgb[k] * 255.0f));
+      c[i + 3] = 255;
+    }
+  auto ct = std::make_shared<Texture>(TexFormat::kRGBA8, n, n, c.data(), ColorSpace::kSRGB);
+  ct->generate_mips(MipReduce::kAverage);
+  return ct;
+}
+
+Result<Scene> make_pattern() {
+  auto depth = std::make_shared<Texture>(make_pattern_depth(kPatternSize));
+  return relief_quad_scene("pattern", 4.0f, "pattern", depth, make_pattern_color(*depth), 0.05f);
+}
+
 }  // namespace
+
+Texture make_pattern_depth(int size) {
+  CHECK(size >= 16 && size % 16 == 0);
+  std::vector<float> d(size_t(size) * size);
+  for (int y = 0; y < size; ++y)
+    for (int x = 0; x < size; ++x) d[size_t(y) * size + x] = pattern_depth_at(x, y, size);
+  Texture t = Texture::from_floats(TexFormat::kR8, size, size, d.data());
+  t.generate_mips(MipReduce::kAverage);
+  return t;
+}
 
 const std::vector<BuiltinSceneInfo>& builtin_scenes() {
   static const std::vector<BuiltinSceneInfo> scenes = {
       {"plane", "one quad with a procedural brick depth map and its normal map, camera at 45 deg"},
+      {"pattern",
+       "the same quad with smooth and sharp features and one-texel walls (4 x 4 tiles "
+       "of 256 x 256), where searches that step over thin structures show"},
   };
   return scenes;
 }
 
-const char* default_scene_name() { return "plane"; }
+const char* default_scene_name() {
+  return "plane";
+}
 
 Result<Scene> make_builtin_scene(const std::string& name) {
   if (name == "plane") return make_plane();
+  if (name == "pattern") return make_pattern();
   std::string known;
   for (const auto& s : builtin_scenes()) known += (known.empty() ? "" : ", ") + s.name;
   return Status::error("unknown scene '" + name + "' (built-in scenes: " + known + ")");
