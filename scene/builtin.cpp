@@ -9,6 +9,7 @@
 
 #include "bake/normal_map.h"
 #include "rasterizer/check.h"
+#include "scene/builtin_room.h"
 #include "scene/mesh_prep.h"
 
 namespace relief {
@@ -218,6 +219,7 @@ Texture make_pattern_depth(int size) {
 const std::vector<BuiltinSceneInfo>& builtin_scenes() {
   static const std::vector<BuiltinSceneInfo> scenes = {
       {"plane", "one quad with a procedural brick depth map and its normal map, camera at 45 deg"},
+      {"room", "relief room: relief walls, floor, columns and sphere, one shadow-casting spot light"},
       {"pattern",
        "the same quad with smooth and sharp features and one-texel walls (4 x 4 tiles "
        "of 256 x 256), where searches that step over thin structures show"},
@@ -231,6 +233,7 @@ const char* default_scene_name() {
 
 Result<Scene> make_builtin_scene(const std::string& name) {
   if (name == "plane") return make_plane();
+  if (name == "room") return make_room_scene();
   if (name == "pattern") return make_pattern();
   std::string known;
   for (const auto& s : builtin_scenes()) known += (known.empty() ? "" : ", ") + s.name;
