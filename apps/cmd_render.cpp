@@ -25,7 +25,7 @@ struct RenderArgs {
   std::string size = "800x600";
   int threads = 0;
   int tile_size = 64;
-  int camera = 0;
+  std::string camera;
   std::string technique;
   std::vector<std::string> params;
   std::vector<std::string> aovs;
@@ -110,7 +110,6 @@ int do_render(const RenderArgs& a) {
     return fail("--tile-size: expected an even number in 8..512", 2);
   opt.threads = a.threads;
   opt.tile_size = a.tile_size;
-  opt.camera = a.camera;
   opt.technique = a.technique;
   opt.scalar_lanes = a.scalar;
   for (const std::string& kv : a.params) {
@@ -145,6 +144,9 @@ int do_render(const RenderArgs& a) {
   const std::string scene_name = a.scene.empty() ? default_scene_source() : a.scene;
   Result<Scene> scene = load_scene_source(scene_name);
   if (!scene.ok()) return fail(scene.status().message(), scene.status().exit_code());
+  Result<int> camera = resolve_camera(*scene, a.camera);
+  if (!camera.ok()) return fail(camera.status().message(), camera.status().exit_code());
+  opt.camera = *camera;
   Result<Plan> plan = make_plan(*scene, opt);
   if (!plan.ok()) return fail(plan.status().message(), plan.status().exit_code());
   if (a.explain) std::printf("%s", plan->explain().c_str());
@@ -194,7 +196,8 @@ void register_render(CLI::App& app, Action& action) {
   sub->add_option("--threads", a->threads, "Worker threads, 0 = all cores")->capture_default_str();
   sub->add_option("--tile-size", a->tile_size, "Tile size in pixels (even, 8..512)")
       ->capture_default_str();
-  sub->add_option("--camera", a->camera, "Camera index")->capture_default_str();
+  sub->add_option("--camera", a->camera,
+                  "Camera by name or index (default: the first; see docs/scene-format.md)");
   sub->add_option("--technique", a->technique, "Replace every material's technique (plugin)");
   sub->add_option("--param", a->params, "Plugin parameter override key=value (repeatable)");
   sub->add_option("--aov", a->aovs, "Extra output NAME=FILE: depth, uv, hit_depth, steps, normal");

@@ -2,6 +2,7 @@
 
 #include "gl/gl_backend.h"
 #include "scene/builtin.h"
+#include "scene/gltf.h"
 
 namespace relief::cli {
 
@@ -12,9 +13,25 @@ Result<Scene> load_scene_source(const std::string& name) {
     const std::string e(ext);
     return name.size() > e.size() && name.compare(name.size() - e.size(), e.size(), e) == 0;
   };
-  if (ends_with(".gltf") || ends_with(".glb"))
-    return Status::error(name + ": glTF scenes are not supported yet");
+  if (ends_with(".gltf") || ends_with(".glb")) return load_gltf(name);
   return make_builtin_scene(name);
+}
+
+Result<int> resolve_camera(const Scene& scene, const std::string& name_or_index) {
+  if (name_or_index.empty()) return 0;
+  const int n = static_cast<int>(scene.cameras.size());
+  const bool digits = name_or_index.find_first_not_of("0123456789") == std::string::npos;
+  if (digits && name_or_index.size() <= 9) {
+    const int i = std::stoi(name_or_index);
+    if (i < n) return i;
+  }
+  for (int i = 0; i < n; ++i)
+    if (scene.cameras[i].name == name_or_index) return i;
+  std::string known;
+  for (int i = 0; i < n; ++i)
+    known += (known.empty() ? "" : ", ") + std::to_string(i) + " '" + scene.cameras[i].name + "'";
+  return Status::usage("--camera: scene '" + scene.name + "' has no camera '" + name_or_index +
+                       "' (cameras: " + (known.empty() ? "none" : known) + ")");
 }
 
 Result<std::unique_ptr<Backend>> make_backend(const std::string& name, int threads, int gpu) {

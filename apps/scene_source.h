@@ -11,7 +11,11 @@
 namespace relief::cli {
 
 std::string default_scene_source();
+// A name ending in .gltf or .glb loads that file (scene/gltf.h); any other is a built-in scene.
 Result<Scene> load_scene_source(const std::string& name_or_path);
+// `--camera NAME|INDEX`: an index into Scene::cameras, or the first camera with that name; empty
+// picks camera 0. Anything else is a usage error listing the scene's cameras.
+Result<int> resolve_camera(const Scene& scene, const std::string& name_or_index);
 // "cpu" or "gl"; gpu is the EGL device index for gl (-1: first usable).
 Result<std::unique_ptr<Backend>> make_backend(const std::string& name, int threads, int gpu);
 

@@ -1,0 +1,33 @@
+// `relief export`: writes a scene (built-in or file) as glTF 2.0 with the relief material
+// extension; how the examples in scenes/ are made (`relief export plane -o scenes/plane.gltf`).
+#include <cstdio>
+
+#include "apps/commands.h"
+#include "apps/scene_source.h"
+#include "scene/gltf.h"
+
+namespace relief::cli {
+
+void register_export(CLI::App& app, Action& action) {
+  auto scene = std::make_shared<std::string>();
+  auto output = std::make_shared<std::string>();
+  auto* sub = app.add_subcommand(
+      "export", "Write a scene as .gltf (with .bin and PNG textures beside it) or .glb");
+  sub->add_option("scene", *scene, "Built-in scene name (see `relief scenes`) or .gltf/.glb file")
+      ->required();
+  sub->add_option("-o,--output", *output, "Output .gltf or .glb")->required();
+  sub->callback([&action, scene, output] {
+    action = [scene, output] {
+      Result<Scene> s = load_scene_source(*scene);
+      if (!s.ok()) return fail(s.status().message(), s.status().exit_code());
+      Status w = save_gltf(*s, *output);
+      if (!w.ok()) return fail(w.message(), w.exit_code());
+      std::printf("%s: %s, %zu meshes, %zu materials, %zu lights, %zu cameras\n", output->c_str(),
+                  scene->c_str(), s->meshes.size(), s->materials.size(), s->lights.size(),
+                  s->cameras.size());
+      return 0;
+    };
+  });
+}
+
+}  // namespace relief::cli

@@ -1,0 +1,1663 @@
+// glTF 2.0 input and output with the RELIEF_relief_mapping material extension (see gltf.h and
+// docs/scene-format.md). tinygltf parses the container (JSON, GLB chunks, buffers, data URIs);
+// images decode through scene/image_io; every value is checked here and an error names the file
+// and the JSON pointer of the offending value.
+#include "scene/gltf.h"
+
+#include <tiny_gltf.h>
+#include <unistd.h>
+
+#include <OpenImageIO/imageio.h>
+
+#include <algorithm>
+#include <atomic>
+#include <charconv>
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <limits>
+#include <map>
+#include <memory>
+#include <set>
+#include <sstream>
+
+#include <glm/geometric.hpp>
+#include <glm/gtc/matrix_transform.hpp>
+#include <glm/gtc/quaternion.hpp>
+#include <glm/gtc/type_ptr.hpp>
+#include <nlohmann/json.hpp>
+
+#include "bake/normal_map.h"
+#include "plugins/registry.h"
+#include "scene/image_io.h"
+#include "scene/mesh_prep.h"
+
+namespace relief {
+namespace {
+
+namespace fs = std::filesystem;
+using json = nlohmann::json;
+using ojson = nlohmann::ordered_json;
+
+constexpr const char* kTextureTransform = "KHR_texture_transform";
+constexpr const char* kLightsPunctual = "KHR_lights_punctual";
+constexpr double kPi = 3.14159265358979323846;
+
+// GL enums used by glTF samplers and accessors.
+constexpr int kNearest = 9728, kLinear = 9729, kNearestMipNearest = 9984, kLinearMipNearest = 9985,
+              kNearestMipLinear = 9986, kLinearMipLinear = 9987;
+constexpr int kClampToEdge = 33071, kMirroredRepeat = 33648, kRepeat = 10497;
+constexpr int kByte = 5120, kUByte = 5121, kShort = 5122, kUShort = 5123, kUInt = 5125,
+              kFloat = 5126;
+
+std::string one_line(const std::string& s) {
+  std::string out;
+  for (char c : s) {
+    if (c == '\n' || c == '\r') {
+      if (!out.empty() && out.back() != ' ') out += "; ";
+    } else {
+      out += c;
+    }
+  }
+  while (!out.empty() && (out.back() == ' ' || out.back() == ';')) out.pop_back();
+  return out;
+}
+
+const char* type_name(int type) {
+  switch (type) {
+    case TINYGLTF_TYPE_SCALAR:
+      return "SCALAR";
+    case TINYGLTF_TYPE_VEC2:
+      return "VEC2";
+    case TINYGLTF_TYPE_VEC3:
+      return "VEC3";
+    case TINYGLTF_TYPE_VEC4:
+      return "VEC4";
+    case TINYGLTF_TYPE_MAT2:
+      return "MAT2";
+    case TINYGLTF_TYPE_MAT3:
+      return "MAT3";
+    case TINYGLTF_TYPE_MAT4:
+      return "MAT4";
+    default:
+      return "an unknown type";
+  }
+}
+const char* component_name(int c) {
+  switch (c) {
+    case kByte:
+      return "BYTE";
+    case kUByte:
+      return "UNSIGNED_BYTE";
+    case kShort:
+      return "SHORT";
+    case kUShort:
+      return "UNSIGNED_SHORT";
+    case kUInt:
+      return "UNSIGNED_INT";
+    case kFloat:
+      return "FLOAT";
+    default:
+      return "an unknown component type";
+  }
+}
+
+// The normal map load_gltf derives from a relief material's depth map when the file gives none:
+// the material's depth_scale (else its technique's default) and wrapping when both axes repeat.
+Texture derived_normal_map(const Material& mat, const Texture& depth) {
+  float depth_scale = 0.05f;
+  if (auto it = mat.params.find("depth_scale"); it != mat.params.end()) {
+    depth_scale = it->second;
+  } else if (const PluginDescriptor* p = PluginRegistry::global().find(mat.technique)) {
+    const int i = param_index(*p, "depth_scale");
+    if (i >= 0) depth_scale = p->params[i].default_value;
+  }
+  const bool wrap = mat.sampler.wrap_u == Wrap::kRepeat && mat.sampler.wrap_v == Wrap::kRepeat;
+  return normal_map_from_depth(depth, depth_scale, wrap);
+}
+
+// A texture transform (KHR_texture_transform): uv' = T(offset) R(rotation) S(scale) uv.
+struct UvTransform {
+  glm::dvec2 offset{0.0};
+  glm::dvec2 scale{1.0};
+  double rotation = 0.0;
+  bool operator==(const UvTransform&) const = default;
+  glm::vec2 apply(glm::vec2 uv) const {
+    const double c = std::cos(rotation), s = std::sin(rotation);
+    const double u = scale.x * uv.x, v = scale.y * uv.y;
+    return glm::vec2(static_cast<float>(c * u + s * v + offset.x),
+                     static_cast<float>(-s * u + c * v + offset.y));
+  }
+};
+
+// A texture reference (textureInfo) wherever it appears.
+struct TexRef {
+  std::string pointer;  // JSON pointer of the textureInfo object
+  int index = -1;
+  int tex_coord = 0;
+  json transform;  // KHR_texture_transform object, or null
+};
+
+enum class TexUse { kColor, kLinear, kDepth, kHeight, kCone };
+
+struct PrimitiveKey {
+  int mesh, primitive;
+  auto operator<=>(const PrimitiveKey&) const = default;
+};
+
+class Reader {
+ public:
+  Reader(std::string path, tinygltf::Model& model) : path_(std::move(path)), m_(model) {
+    base_dir_ = fs::path(path_).parent_path().string();
+  }
+
+  Result<Scene> read() {
+    scene_.name = fs::path(path_).stem().string();
+    RELIEF_RETURN_IF_ERROR(check_required_extensions());
+    RELIEF_RETURN_IF_ERROR(read_root_extension());
+    for (size_t i = 0; i < m_.materials.size(); ++i) {
+      Result<MaterialInfo> mat = read_material(static_cast<int>(i));
+      if (!mat.ok()) return mat.status();
+      materials_.push_back(std::move(*mat));
+    }
+    RELIEF_RETURN_IF_ERROR(read_nodes());
+    for (const MaterialInfo& mi : materials_) scene_.materials.push_back(mi.material);
+    if (default_material_ >= 0) {
+      Material d;
+      d.name = "default";
+      d.technique = "flat";
+      scene_.materials.push_back(d);
+    }
+    RELIEF_RETURN_IF_ERROR(place_cameras());
+    return std::move(scene_);
+  }
+
+ private:
+  struct MaterialInfo {
+    Material material;
+    bool bake_uv = false;  // a rotated texture transform, applied to the primitives' uvs
+    UvTransform uv;
+  };
+  struct CameraNode {
+    int camera, node, order;
+    glm::dmat4 world;
+  };
+
+  Status fail(const std::string& pointer, const std::string& what) const {
+    return Status::error(path_ + ": " + pointer + ": " + what);
+  }
+
+  // ---- JSON helpers for extension objects ----
+  static Result<json> parse_json(const std::string& text) {
+    if (text.empty()) return json::object();
+    json j = json::parse(text, nullptr, false);
+    if (j.is_discarded() || !j.is_object()) return Status::error("malformed extension JSON");
+    return j;
+  }
+  // The object `name` inside an extensions JSON string, or null.
+  Result<json> extension(const std::string& extensions_json, const char* name,
+                         const std::string& pointer) const {
+    Result<json> all = parse_json(extensions_json);
+    if (!all.ok()) return fail(pointer + "/extensions", all.status().message());
+    auto it = all->find(name);
+    if (it == all->end()) return json();
+    if (!it->is_object()) return fail(pointer + "/extensions/" + name, "expected an object");
+    return *it;
+  }
+  Status check_keys(const json& obj, const std::string& pointer,
+                    const std::vector<std::string>& known) const {
+    for (auto it = obj.begin(); it != obj.end(); ++it) {
+      if (it.key() == "extensions" || it.key() == "extras") continue;
+      if (std::find(known.begin(), known.end(), it.key()) == known.end()) {
+        std::string list;
+        for (const auto& k : known) list += (list.empty() ? "" : ", ") + k;
+        return fail(pointer + "/" + it.key(), "unknown property (expected one of " + list + ")");
+      }
+    }
+    return {};
+  }
+  Status get_number(const json& obj, const char* key, const std::string& pointer, double& out,
+                    double lo = -std::numeric_limits<double>::infinity(),
+                    double hi = std::numeric_limits<double>::infinity()) const {
+    auto it = obj.find(key);
+    if (it == obj.end()) return {};
+    const std::string p = pointer + "/" + key;
+    if (!it->is_number()) return fail(p, "expected a number, got " + it->dump());
+    const double v = it->get<double>();
+    if (!std::isfinite(v) || v < lo || v > hi) {
+      std::ostringstream os;
+      os << v << " is outside [" << lo << ", " << hi << "]";
+      return fail(p, os.str());
+    }
+    out = v;
+    return {};
+  }
+  Status get_int(const json& obj, const char* key, const std::string& pointer, int& out, int lo,
+                 int hi) const {
+    auto it = obj.find(key);
+    if (it == obj.end()) return {};
+    const std::string p = pointer + "/" + key;
+    if (!it->is_number_integer() &&
+        !(it->is_number_float() && std::floor(it->get<double>()) == it->get<double>()))
+      return fail(p, "expected an integer, got " + it->dump());
+    const double v = it->get<double>();
+    if (v < lo || v > hi)
+      return fail(p, it->dump() + " is outside " + std::to_string(lo) + ".." + std::to_string(hi));
+    out = static_cast<int>(v);
+    return {};
+  }
+  Status get_bool(const json& obj, const char* key, const std::string& pointer, bool& out) const {
+    auto it = obj.find(key);
+    if (it == obj.end()) return {};
+    if (!it->is_boolean())
+      return fail(pointer + "/" + key, "expected true or false, got " + it->dump());
+    out = it->get<bool>();
+    return {};
+  }
+  template <int N>
+  Status get_vec(const json& obj, const char* key, const std::string& pointer,
+                 glm::vec<N, double>& out, double lo, double hi) const {
+    auto it = obj.find(key);
+    if (it == obj.end()) return {};
+    const std::string p = pointer + "/" + key;
+    if (!it->is_array() || it->size() != N)
+      return fail(p, "expected an array of " + std::to_string(N) + " numbers");
+    for (int i = 0; i < N; ++i) {
+      const json& x = (*it)[i];
+      if (!x.is_number() || !std::isfinite(x.get<double>()) || x.get<double>() < lo ||
+          x.get<double>() > hi)
+        return fail(p + "/" + std::to_string(i),
+                    "expected a number in [" + fmt(lo) + ", " + fmt(hi) + "], got " + x.dump());
+      out[i] = x.get<double>();
+    }
+    return {};
+  }
+  static std::string fmt(double v) {
+    std::ostringstream os;
+    os << v;
+    return os.str();
+  }
+
+  // ---- top level ----
+  Status check_required_extensions() const {
+    const std::set<std::string> supported = {kReliefExtension, kTextureTransform, kLightsPunctual};
+    for (size_t i = 0; i < m_.extensionsRequired.size(); ++i)
+      if (!supported.count(m_.extensionsRequired[i]))
+        return fail("/extensionsRequired/" + std::to_string(i),
+                    "required extension '" + m_.extensionsRequired[i] + "' is not supported");
+    return {};
+  }
+
+  Status read_root_extension() {
+    Result<json> ext = extension(m_.extensions_json_string, kReliefExtension, "");
+    if (!ext.ok()) return ext.status();
+    if (ext->is_null()) return {};
+    const std::string p = std::string("/extensions/") + kReliefExtension;
+    RELIEF_RETURN_IF_ERROR(check_keys(*ext, p, {"ambient", "background"}));
+    glm::dvec3 ambient(scene_.ambient);
+    glm::dvec4 background(scene_.background);
+    RELIEF_RETURN_IF_ERROR(get_vec<3>(*ext, "ambient", p, ambient, 0.0, 1e6));
+    RELIEF_RETURN_IF_ERROR(get_vec<4>(*ext, "background", p, background, 0.0, 1e6));
+    scene_.ambient = glm::vec3(ambient);
+    scene_.background = glm::vec4(background);
+    return {};
+  }
+
+  // ---- textures ----
+  Result<TexRef> tex_ref_from_json(const json& j, const std::string& pointer) const {
+    if (!j.is_object()) return fail(pointer, "expected a textureInfo object");
+    RELIEF_RETURN_IF_ERROR(check_keys(j, pointer, {"index", "texCoord"}));
+    TexRef r;
+    r.pointer = pointer;
+    if (!j.contains("index")) return fail(pointer, "missing 'index'");
+    RELIEF_RETURN_IF_ERROR(get_int(j, "index", pointer, r.index, 0, 1 << 30));
+    RELIEF_RETURN_IF_ERROR(get_int(j, "texCoord", pointer, r.tex_coord, 0, 1 << 30));
+    if (j.contains("extensions") && j["extensions"].is_object() &&
+        j["extensions"].contains(kTextureTransform))
+      r.transform = j["extensions"][kTextureTransform];
+    return r;
+  }
+  Result<TexRef> tex_ref(int index, int tex_coord, const std::string& extensions_json,
+                         const std::string& pointer) const {
+    TexRef r;
+    r.pointer = pointer;
+    r.index = index;
+    r.tex_coord = tex_coord;
+    Result<json> t = extension(extensions_json, kTextureTransform, pointer);
+    if (!t.ok()) return t.status();
+    r.transform = *t;
+    return r;
+  }
+
+  Result<UvTransform> uv_transform(const TexRef& r) const {
+    UvTransform t;
+    int tex_coord = r.tex_coord;
+    if (!r.transform.is_null()) {
+      const std::string p = r.pointer + "/extensions/" + kTextureTransform;
+      if (!r.transform.is_object()) return fail(p, "expected an object");
+      RELIEF_RETURN_IF_ERROR(
+          check_keys(r.transform, p, {"offset", "rotation", "scale", "texCoord"}));
+      RELIEF_RETURN_IF_ERROR(get_vec<2>(r.transform, "offset", p, t.offset, -1e9, 1e9));
+      RELIEF_RETURN_IF_ERROR(get_vec<2>(r.transform, "scale", p, t.scale, -1e9, 1e9));
+      RELIEF_RETURN_IF_ERROR(get_number(r.transform, "rotation", p, t.rotation, -1e9, 1e9));
+      RELIEF_RETURN_IF_ERROR(get_int(r.transform, "texCoord", p, tex_coord, 0, 1 << 30));
+      if (t.scale.x == 0.0 || t.scale.y == 0.0) return fail(p + "/scale", "scale must not be 0");
+    }
+    if (tex_coord != 0)
+      return fail(r.pointer + "/texCoord",
+                  "TEXCOORD_" + std::to_string(tex_coord) + " is not supported (only TEXCOORD_0)");
+    return t;
+  }
+
+  Result<SamplerState> sampler_of(const TexRef& r, bool& mipmapped) const {
+    const tinygltf::Texture& tex = m_.textures[r.index];
+    SamplerState s;
+    mipmapped = true;
+    if (tex.sampler < 0) return s;
+    const std::string p = "/textures/" + std::to_string(r.index) + "/sampler";
+    if (tex.sampler >= static_cast<int>(m_.samplers.size()))
+      return fail(p, "sampler " + std::to_string(tex.sampler) + " does not exist");
+    const tinygltf::Sampler& smp = m_.samplers[tex.sampler];
+    const std::string sp = "/samplers/" + std::to_string(tex.sampler);
+    // Our filters are GL's minification modes; magnification follows (nearest for kNearest).
+    switch (smp.minFilter) {
+      case -1:
+        break;
+      case kNearest:
+        s.filter = Filter::kNearest;
+        mipmapped = false;
+        break;
+      case kLinear:
+        s.filter = Filter::kBilinear;
+        mipmapped = false;
+        break;
+      case kNearestMipNearest:
+        s.filter = Filter::kNearest;
+        break;
+      case kLinearMipNearest:
+        s.filter = Filter::kBilinear;
+        break;
+      case kNearestMipLinear:
+      case kLinearMipLinear:
+        s.filter = Filter::kTrilinear;
+        break;
+      default:
+        return fail(sp + "/minFilter", "unknown filter " + std::to_string(smp.minFilter));
+    }
+    if (smp.minFilter == -1 && smp.magFilter == kNearest) s.filter = Filter::kNearest;
+    if (smp.magFilter != -1 && smp.magFilter != kNearest && smp.magFilter != kLinear)
+      return fail(sp + "/magFilter", "unknown filter " + std::to_string(smp.magFilter));
+    auto wrap = [&](int w, const char* key, Wrap& out) -> Status {
+      switch (w) {
+        case kRepeat:
+          out = Wrap::kRepeat;
+          return {};
+        case kClampToEdge:
+          out = Wrap::kClamp;
+          return {};
+        case kMirroredRepeat:
+          out = Wrap::kMirror;
+          return {};
+        default:
+          return fail(sp + "/" + key, "unknown wrap mode " + std::to_string(w));
+      }
+    };
+    RELIEF_RETURN_IF_ERROR(wrap(smp.wrapS, "wrapS", s.wrap_u));
+    RELIEF_RETURN_IF_ERROR(wrap(smp.wrapT, "wrapT", s.wrap_v));
+    return s;
+  }
+
+  // Decodes image `index` for `use` (cached: one texture per image, use and mip choice).
+  Result<TexturePtr> texture(const TexRef& r, TexUse use, bool mipmapped) {
+    const tinygltf::Texture& tex = m_.textures[r.index];
+    const std::string tp = "/textures/" + std::to_string(r.index);
+    if (tex.source < 0 || tex.source >= static_cast<int>(m_.images.size()))
+      return fail(tp + "/source", tex.source < 0
+                                      ? "texture has no source image"
+                                      : "image " + std::to_string(tex.source) + " does not exist");
+    const auto key = std::make_tuple(tex.source, static_cast<int>(use), mipmapped);
+    if (auto it = textures_.find(key); it != textures_.end()) return it->second;
+    const tinygltf::Image& img = m_.images[tex.source];
+    const std::string ip = "/images/" + std::to_string(tex.source);
+    TextureLoadOptions opt;
+    opt.color_space = use == TexUse::kColor ? ColorSpace::kSRGB : ColorSpace::kLinear;
+    opt.first_channel_only = use == TexUse::kDepth || use == TexUse::kHeight;
+    opt.height_to_depth = use == TexUse::kHeight;
+    Result<Texture> t = Status::error("no image");
+    if (!img.uri.empty() && img.uri.rfind("data:", 0) != 0) {
+      // An external file, read by path so that errors name it.
+      const std::string file = (fs::path(base_dir_) / decode_uri(img.uri)).string();
+      t = load_texture(file, opt);
+      if (!t.ok()) return fail(ip + "/uri", t.status().message());
+    } else {
+      t = decode_in_memory(img, opt);
+      if (!t.ok())
+        return fail(ip + (img.bufferView >= 0 ? "/bufferView" : "/uri"), t.status().message());
+    }
+    if (mipmapped) t->generate_mips(use == TexUse::kCone ? MipReduce::kMin : MipReduce::kAverage);
+    TexturePtr ptr = std::make_shared<Texture>(std::move(*t));
+    textures_[key] = ptr;
+    return ptr;
+  }
+
+  static std::string decode_uri(const std::string& uri) {
+    std::string out;
+    for (size_t i = 0; i < uri.size(); ++i) {
+      if (uri[i] == '%' && i + 2 < uri.size() && std::isxdigit(uchar(uri[i + 1])) &&
+          std::isxdigit(uchar(uri[i + 2]))) {
+        out += static_cast<char>(std::stoi(uri.substr(i + 1, 2), nullptr, 16));
+        i += 2;
+      } else {
+        out += uri[i];
+      }
+    }
+    return out;
+  }
+  static unsigned char uchar(char c) { return static_cast<unsigned char>(c); }
+
+  // Embedded images (GLB buffer views, data URIs): OpenImageIO reads files, so the bytes pass
+  // through a private temporary file that is removed at once.
+  static Result<Texture> decode_in_memory(const tinygltf::Image& img,
+                                          const TextureLoadOptions& opt) {
+    const std::vector<unsigned char>& bytes = img.image;
+    if (bytes.empty()) return Status::error("image data is empty");
+    std::string ext;
+    if (bytes.size() >= 8 && std::memcmp(bytes.data(), "\x89PNG\r\n\x1a\n", 8) == 0)
+      ext = ".png";
+    else if (bytes.size() >= 3 && bytes[0] == 0xff && bytes[1] == 0xd8 && bytes[2] == 0xff)
+      ext = ".jpg";
+    else
+      return Status::error("embedded image is neither PNG nor JPEG");
+    static std::atomic<unsigned> counter{0};
+    const fs::path tmp =
+        fs::temp_directory_path() / ("relief_gltf_" + std::to_string(::getpid()) + "_" +
+                                     std::to_string(counter.fetch_add(1)) + ext);
+    {
+      std::ofstream f(tmp, std::ios::binary);
+      f.write(reinterpret_cast<const char*>(bytes.data()),
+              static_cast<std::streamsize>(bytes.size()));
+      if (!f) {
+        std::error_code ec;
+        fs::remove(tmp, ec);
+        return Status::error("cannot write a temporary file in " + tmp.parent_path().string());
+      }
+    }
+    Result<Texture> t = load_texture(tmp.string(), opt);
+    std::error_code ec;
+    fs::remove(tmp, ec);
+    if (!t.ok()) {
+      std::string msg = t.status().message();
+      const std::string prefix = tmp.string() + ": ";
+      if (msg.rfind(prefix, 0) == 0) msg = msg.substr(prefix.size());
+      return Status::error("embedded image: " + msg);
+    }
+    return t;
+  }
+
+  // ---- materials ----
+  Result<MaterialInfo> read_material(int index) {
+    const tinygltf::Material& gm = m_.materials[index];
+    const std::string mp = "/materials/" + std::to_string(index);
+    MaterialInfo info;
+    Material& mat = info.material;
+    mat.name = gm.name.empty() ? "material" + std::to_string(index) : gm.name;
+    mat.double_sided = gm.doubleSided;
+    const auto& bcf = gm.pbrMetallicRoughness.baseColorFactor;
+    if (bcf.size() == 4) {
+      for (int i = 0; i < 4; ++i) {
+        if (!std::isfinite(bcf[i]) || bcf[i] < 0.0 || bcf[i] > 1.0)
+          return fail(mp + "/pbrMetallicRoughness/baseColorFactor/" + std::to_string(i),
+                      "expected a number in [0, 1]");
+        mat.base_color[i] = static_cast<float>(bcf[i]);
+      }
+    }
+    // (slot, reference, use)
+    struct Slot {
+      std::string name;
+      TexRef ref;
+      TexUse use;
+    };
+    std::vector<Slot> slots;
+    const auto& bct = gm.pbrMetallicRoughness.baseColorTexture;
+    if (bct.index >= 0) {
+      Result<TexRef> r = tex_ref(bct.index, bct.texCoord, bct.extensions_json_string,
+                                 mp + "/pbrMetallicRoughness/baseColorTexture");
+      if (!r.ok()) return r.status();
+      slots.push_back({"base_color", *r, TexUse::kColor});
+    }
+    if (gm.normalTexture.index >= 0) {
+      const std::string p = mp + "/normalTexture";
+      if (gm.normalTexture.scale != 1.0)
+        return fail(p + "/scale", "only 1 is supported, got " + fmt(gm.normalTexture.scale));
+      Result<TexRef> r = tex_ref(gm.normalTexture.index, gm.normalTexture.texCoord,
+                                 gm.normalTexture.extensions_json_string, p);
+      if (!r.ok()) return r.status();
+      slots.push_back({"normal", *r, TexUse::kLinear});
+    }
+
+    Result<json> ext = extension(gm.extensions_json_string, kReliefExtension, mp);
+    if (!ext.ok()) return ext.status();
+    const std::string ep = mp + "/extensions/" + kReliefExtension;
+    bool normal_from_depth = true;
+    int max_aniso = 0;
+    std::map<std::string, std::string> param_pointer;  // parameter -> JSON pointer
+    if (ext->is_null()) {
+      mat.technique = gm.normalTexture.index >= 0 ? "normal" : "flat";
+    } else {
+      const json& e = *ext;
+      RELIEF_RETURN_IF_ERROR(
+          check_keys(e, ep,
+                     {"technique", "depth_texture", "depth_is_height", "normal_from_depth",
+                      "cone_texture", "depth_scale", "steps", "binary_steps", "self_shadow",
+                      "depth_write", "silhouette", "casts_shadow", "receives_shadow", "specular",
+                      "shininess", "max_anisotropy", "params"}));
+      mat.technique = "relief";
+      if (e.contains("technique")) {
+        if (!e["technique"].is_string() || e["technique"].get<std::string>().empty())
+          return fail(ep + "/technique", "expected a technique name, got " + e["technique"].dump());
+        mat.technique = e["technique"].get<std::string>();
+      }
+      if (!PluginRegistry::global().find(mat.technique)) {
+        std::string known;
+        for (const PluginDescriptor* p : PluginRegistry::global().all())
+          known += (known.empty() ? "" : ", ") + std::string(p->name);
+        return fail(ep + "/technique",
+                    "unknown technique '" + mat.technique + "' (known: " + known + ")");
+      }
+      bool depth_is_height = false;
+      RELIEF_RETURN_IF_ERROR(get_bool(e, "depth_is_height", ep, depth_is_height));
+      RELIEF_RETURN_IF_ERROR(get_bool(e, "normal_from_depth", ep, normal_from_depth));
+      RELIEF_RETURN_IF_ERROR(get_bool(e, "self_shadow", ep, mat.self_shadow));
+      RELIEF_RETURN_IF_ERROR(get_bool(e, "depth_write", ep, mat.depth_write));
+      RELIEF_RETURN_IF_ERROR(get_bool(e, "silhouette", ep, mat.silhouette));
+      RELIEF_RETURN_IF_ERROR(get_bool(e, "casts_shadow", ep, mat.casts_shadow));
+      RELIEF_RETURN_IF_ERROR(get_bool(e, "receives_shadow", ep, mat.receives_shadow));
+      double specular = mat.specular, shininess = mat.shininess;
+      RELIEF_RETURN_IF_ERROR(get_number(e, "specular", ep, specular, 0.0, 1e6));
+      RELIEF_RETURN_IF_ERROR(get_number(e, "shininess", ep, shininess, 0.0, 1e6));
+      mat.specular = static_cast<float>(specular);
+      mat.shininess = static_cast<float>(shininess);
+      RELIEF_RETURN_IF_ERROR(get_int(e, "max_anisotropy", ep, max_aniso, 1, 16));
+      if (e.contains("depth_texture")) {
+        Result<TexRef> r = tex_ref_from_json(e["depth_texture"], ep + "/depth_texture");
+        if (!r.ok()) return r.status();
+        slots.push_back({"depth", *r, depth_is_height ? TexUse::kHeight : TexUse::kDepth});
+      }
+      if (e.contains("cone_texture")) {
+        Result<TexRef> r = tex_ref_from_json(e["cone_texture"], ep + "/cone_texture");
+        if (!r.ok()) return r.status();
+        slots.push_back({"cone", *r, TexUse::kCone});
+      }
+      // Plugin parameters: the three common ones at the top level, any other in "params".
+      int steps = 0, binary_steps = 0;
+      double depth_scale = 0.0;
+      if (e.contains("steps")) {
+        RELIEF_RETURN_IF_ERROR(get_int(e, "steps", ep, steps, 1, 1 << 20));
+        mat.params["steps"] = static_cast<float>(steps);
+        param_pointer["steps"] = ep + "/steps";
+      }
+      if (e.contains("binary_steps")) {
+        RELIEF_RETURN_IF_ERROR(get_int(e, "binary_steps", ep, binary_steps, 0, 1 << 20));
+        mat.params["binary_steps"] = static_cast<float>(binary_steps);
+        param_pointer["binary_steps"] = ep + "/binary_steps";
+      }
+      if (e.contains("depth_scale")) {
+        RELIEF_RETURN_IF_ERROR(get_number(e, "depth_scale", ep, depth_scale, 0.0, 1e6));
+        mat.params["depth_scale"] = static_cast<float>(depth_scale);
+        param_pointer["depth_scale"] = ep + "/depth_scale";
+      }
+      if (e.contains("params")) {
+        const json& ps = e["params"];
+        const std::string pp = ep + "/params";
+        if (!ps.is_object()) return fail(pp, "expected an object of parameter values");
+        for (auto it = ps.begin(); it != ps.end(); ++it) {
+          const std::string p = pp + "/" + it.key();
+          if (param_pointer.count(it.key()))
+            return fail(p, "given twice (also at " + param_pointer[it.key()] + ")");
+          float v = 0.0f;
+          if (it->is_boolean())
+            v = it->get<bool>() ? 1.0f : 0.0f;
+          else if (it->is_number())
+            v = static_cast<float>(it->get<double>());
+          else
+            return fail(p, "expected a number or a boolean, got " + it->dump());
+          mat.params[it.key()] = v;
+          param_pointer[it.key()] = p;
+        }
+      }
+      RELIEF_RETURN_IF_ERROR(check_params(mat, param_pointer));
+    }
+
+    // Textures: one sampler and one texture transform per material.
+    const TexRef* first = nullptr;
+    for (const Slot& s : slots) {
+      if (s.ref.index < 0 || s.ref.index >= static_cast<int>(m_.textures.size()))
+        return fail(s.ref.pointer + "/index",
+                    "texture " + std::to_string(s.ref.index) + " does not exist");
+      Result<UvTransform> t = uv_transform(s.ref);
+      if (!t.ok()) return t.status();
+      bool mipmapped = true;
+      Result<SamplerState> smp = sampler_of(s.ref, mipmapped);
+      if (!smp.ok()) return smp.status();
+      if (!first) {
+        first = &s.ref;
+        info.uv = *t;
+        mat.sampler = *smp;
+      } else {
+        if (!(*t == info.uv))
+          return fail(s.ref.pointer, std::string("texture transform differs from that of ") +
+                                         first->pointer +
+                                         " (relief applies one transform per material)");
+        const SamplerState& a = mat.sampler;
+        if (a.filter != smp->filter || a.wrap_u != smp->wrap_u || a.wrap_v != smp->wrap_v)
+          return fail(s.ref.pointer, std::string("sampler differs from that of ") + first->pointer +
+                                         " (relief uses one sampler per material)");
+      }
+      Result<TexturePtr> tex = texture(s.ref, s.use, mipmapped);
+      if (!tex.ok()) return tex.status();
+      mat.textures[s.name] = *tex;
+    }
+    if (max_aniso > 1) {
+      mat.sampler.filter = Filter::kAnisotropic;
+      mat.sampler.max_aniso = max_aniso;
+    }
+    if (info.uv.rotation != 0.0) {
+      info.bake_uv = true;  // applied to the uvs of every primitive that uses the material
+    } else {
+      mat.uv_scale = glm::vec2(info.uv.scale);
+      mat.uv_offset = glm::vec2(info.uv.offset);
+    }
+    // The normal map a relief material needs, derived from its depth map when none is given.
+    if (mat.textures.count("depth") && !mat.textures.count("normal") && normal_from_depth) {
+      mat.textures["normal"] =
+          std::make_shared<Texture>(derived_normal_map(mat, *mat.textures["depth"]));
+    }
+    // Texture slots the technique requires.
+    const PluginDescriptor* plugin = PluginRegistry::global().find(mat.technique);
+    for (int s = 0; plugin && s < plugin->num_textures; ++s) {
+      const TextureSlotSpec& slot = plugin->textures[s];
+      if (!slot.required || mat.textures.count(slot.name)) continue;
+      const std::string name = slot.name;
+      const std::string where = name == "base_color" ? "pbrMetallicRoughness/baseColorTexture"
+                                : name == "normal"   ? "normalTexture"
+                                                     : name + "_texture";
+      return fail(ext->is_null() ? mp : ep,
+                  "technique " + mat.technique + " needs a '" + name + "' texture (" + where + ")");
+    }
+    return info;
+  }
+
+  // Each parameter is checked by the material's technique when it declares it, otherwise by a
+  // technique that does (parameters of other techniques apply when --technique switches).
+  Status check_params(const Material& mat,
+                      const std::map<std::string, std::string>& pointers) const {
+    const PluginRegistry& reg = PluginRegistry::global();
+    for (const auto& [name, value] : mat.params) {
+      const PluginDescriptor* by = nullptr;
+      if (const PluginDescriptor* own = reg.find(mat.technique);
+          own && param_index(*own, name.c_str()) >= 0)
+        by = own;
+      for (const PluginDescriptor* p : reg.all())
+        if (!by && param_index(*p, name.c_str()) >= 0) by = p;
+      const std::string& where = pointers.at(name);
+      if (!by) return fail(where, "no technique has a parameter '" + name + "'");
+      Result<std::vector<float>> r = resolve_params(*by, {{name, value}}, {});
+      if (!r.ok()) return fail(where, r.status().message());
+    }
+    return {};
+  }
+
+  // ---- accessors ----
+  struct View {
+    const uint8_t* data = nullptr;
+    size_t stride = 0;
+    size_t count = 0;
+    int comps = 0;
+    int ctype = 0;
+    bool normalized = false;
+  };
+
+  Result<View> view(int index, const std::string& where) const {
+    if (index < 0 || index >= static_cast<int>(m_.accessors.size()))
+      return fail(where, "accessor " + std::to_string(index) + " does not exist");
+    const tinygltf::Accessor& a = m_.accessors[index];
+    const std::string ap = "/accessors/" + std::to_string(index);
+    if (a.sparse.isSparse) return fail(ap + "/sparse", "sparse accessors are not supported");
+    if (a.count == 0) return fail(ap + "/count", "accessor has no elements");
+    View v;
+    v.count = a.count;
+    v.comps = tinygltf::GetNumComponentsInType(static_cast<uint32_t>(a.type));
+    v.ctype = a.componentType;
+    v.normalized = a.normalized;
+    const int csize = tinygltf::GetComponentSizeInBytes(static_cast<uint32_t>(a.componentType));
+    if (v.comps <= 0) return fail(ap + "/type", "unknown accessor type");
+    if (csize <= 0) return fail(ap + "/componentType", "unknown component type");
+    const size_t elem = static_cast<size_t>(v.comps) * csize;
+    if (a.bufferView < 0 || a.bufferView >= static_cast<int>(m_.bufferViews.size()))
+      return fail(ap + "/bufferView",
+                  "buffer view " + std::to_string(a.bufferView) + " does not exist");
+    const tinygltf::BufferView& bv = m_.bufferViews[a.bufferView];
+    const std::string bp = "/bufferViews/" + std::to_string(a.bufferView);
+    if (bv.buffer < 0 || bv.buffer >= static_cast<int>(m_.buffers.size()))
+      return fail(bp + "/buffer", "buffer " + std::to_string(bv.buffer) + " does not exist");
+    const tinygltf::Buffer& buf = m_.buffers[bv.buffer];
+    if (bv.byteOffset > buf.data.size() || bv.byteLength > buf.data.size() - bv.byteOffset)
+      return fail(bp, "bytes " + std::to_string(bv.byteOffset) + ".." +
+                          std::to_string(bv.byteOffset + bv.byteLength) + " exceed buffer " +
+                          std::to_string(bv.buffer) + " (" + std::to_string(buf.data.size()) +
+                          " bytes)");
+    v.stride = bv.byteStride ? bv.byteStride : elem;
+    if (v.stride < elem)
+      return fail(bp + "/byteStride", "stride " + std::to_string(v.stride) +
+                                          " is smaller than an element (" + std::to_string(elem) +
+                                          " bytes)");
+    const size_t need = a.byteOffset + v.stride * (a.count - 1) + elem;
+    if (a.byteOffset > bv.byteLength || need > bv.byteLength)
+      return fail(ap, std::to_string(a.count) + " elements of " + std::to_string(elem) +
+                          " bytes at offset " + std::to_string(a.byteOffset) + " need " +
+                          std::to_string(need) + " bytes; buffer view " +
+                          std::to_string(a.bufferView) + " has " + std::to_string(bv.byteLength));
+    v.data = buf.data.data() + bv.byteOffset + a.byteOffset;
+    return v;
+  }
+
+  static float component(const uint8_t* p, int ctype, bool normalized) {
+    switch (ctype) {
+      case kFloat: {
+        float f;
+        std::memcpy(&f, p, 4);
+        return f;
+      }
+      case kUByte:
+        return normalized ? p[0] / 255.0f : p[0];
+      case kUShort: {
+        uint16_t u;
+        std::memcpy(&u, p, 2);
+        return normalized ? u / 65535.0f : u;
+      }
+      default:
+        return 0.0f;
+    }
+  }
+
+  // Reads a float attribute: VEC<comps> of FLOAT (or normalised unsigned bytes / shorts where
+  // allowed), every value finite.
+  template <int N>
+  Status read_attr(int index, const std::string& where, bool allow_normalized,
+                   std::vector<glm::vec<N, float>>& out) const {
+    Result<View> v = view(index, where);
+    if (!v.ok()) return v.status();
+    const bool ok_type =
+        v->comps == N && !(v->ctype != kFloat && !(allow_normalized && v->normalized &&
+                                                   (v->ctype == kUByte || v->ctype == kUShort)));
+    if (!ok_type || m_.accessors[index].type != N)
+      return fail(where, "accessor " + std::to_string(index) + " is " +
+                             type_name(m_.accessors[index].type) + " of " +
+                             component_name(v->ctype) + ", expected VEC" + std::to_string(N) +
+                             " of FLOAT" +
+                             (allow_normalized ? " (or normalized UNSIGNED_BYTE/SHORT)" : ""));
+    const int csize = tinygltf::GetComponentSizeInBytes(static_cast<uint32_t>(v->ctype));
+    out.resize(v->count);
+    for (size_t i = 0; i < v->count; ++i) {
+      const uint8_t* e = v->data + i * v->stride;
+      for (int c = 0; c < N; ++c) {
+        const float f = component(e + c * csize, v->ctype, v->normalized);
+        if (!std::isfinite(f))
+          return fail(where, "element " + std::to_string(i) + " is not finite (" +
+                                 (std::isnan(f) ? "NaN" : "Inf") + ")");
+        out[i][c] = f;
+      }
+    }
+    return {};
+  }
+
+  Status read_indices(int index, const std::string& where, std::vector<uint32_t>& out) const {
+    Result<View> v = view(index, where);
+    if (!v.ok()) return v.status();
+    if (v->comps != 1 || (v->ctype != kUByte && v->ctype != kUShort && v->ctype != kUInt))
+      return fail(where, "accessor " + std::to_string(index) + " is " +
+                             type_name(m_.accessors[index].type) + " of " +
+                             component_name(v->ctype) +
+                             ", expected SCALAR of UNSIGNED_BYTE, UNSIGNED_SHORT or UNSIGNED_INT");
+    out.resize(v->count);
+    for (size_t i = 0; i < v->count; ++i) {
+      const uint8_t* e = v->data + i * v->stride;
+      if (v->ctype == kUByte) {
+        out[i] = e[0];
+      } else if (v->ctype == kUShort) {
+        uint16_t u;
+        std::memcpy(&u, e, 2);
+        out[i] = u;
+      } else {
+        std::memcpy(&out[i], e, 4);
+      }
+    }
+    return {};
+  }
+
+  Result<int> primitive_mesh(int mesh, int prim, int material_index) {
+    const PrimitiveKey key{mesh, prim};
+    if (auto it = meshes_.find(key); it != meshes_.end()) return it->second;
+    const tinygltf::Primitive& p = m_.meshes[mesh].primitives[prim];
+    const std::string pp =
+        "/meshes/" + std::to_string(mesh) + "/primitives/" + std::to_string(prim);
+    const int mode = p.mode < 0 ? TINYGLTF_MODE_TRIANGLES : p.mode;
+    if (mode != TINYGLTF_MODE_TRIANGLES) {
+      static const char* names[] = {"POINTS",    "LINES",          "LINE_LOOP",   "LINE_STRIP",
+                                    "TRIANGLES", "TRIANGLE_STRIP", "TRIANGLE_FAN"};
+      return fail(pp + "/mode",
+                  std::string("mode ") +
+                      (mode >= 0 && mode <= 6 ? names[mode] : std::to_string(mode).c_str()) +
+                      " is not supported (only TRIANGLES)");
+    }
+    if (!p.targets.empty()) return fail(pp + "/targets", "morph targets are not supported");
+    Mesh out;
+    out.name = m_.meshes[mesh].name.empty() ? "mesh" + std::to_string(mesh) : m_.meshes[mesh].name;
+    if (m_.meshes[mesh].primitives.size() > 1) out.name += "/" + std::to_string(prim);
+    const std::string ap = pp + "/attributes";
+    auto attr = [&](const char* name) {
+      auto it = p.attributes.find(name);
+      return it == p.attributes.end() ? -1 : it->second;
+    };
+    if (attr("POSITION") < 0) return fail(ap, "no POSITION attribute");
+    RELIEF_RETURN_IF_ERROR(read_attr<3>(attr("POSITION"), ap + "/POSITION", false, out.positions));
+    const size_t n = out.positions.size();
+    auto same_count = [&](const char* name, size_t count) -> Status {
+      if (count == n) return {};
+      return fail(ap + "/" + name, "accessor " + std::to_string(attr(name)) + " has " +
+                                       std::to_string(count) + " elements, POSITION has " +
+                                       std::to_string(n));
+    };
+    if (attr("NORMAL") >= 0) {
+      RELIEF_RETURN_IF_ERROR(read_attr<3>(attr("NORMAL"), ap + "/NORMAL", false, out.normals));
+      RELIEF_RETURN_IF_ERROR(same_count("NORMAL", out.normals.size()));
+    }
+    if (attr("TEXCOORD_0") >= 0) {
+      RELIEF_RETURN_IF_ERROR(read_attr<2>(attr("TEXCOORD_0"), ap + "/TEXCOORD_0", true, out.uvs));
+      RELIEF_RETURN_IF_ERROR(same_count("TEXCOORD_0", out.uvs.size()));
+    }
+    if (attr("TANGENT") >= 0) {
+      RELIEF_RETURN_IF_ERROR(read_attr<4>(attr("TANGENT"), ap + "/TANGENT", false, out.tangents));
+      RELIEF_RETURN_IF_ERROR(same_count("TANGENT", out.tangents.size()));
+    }
+    if (p.indices >= 0) {
+      RELIEF_RETURN_IF_ERROR(read_indices(p.indices, pp + "/indices", out.indices));
+      if (out.indices.size() % 3)
+        return fail(pp + "/indices",
+                    std::to_string(out.indices.size()) + " indices do not make whole triangles");
+      for (uint32_t i : out.indices)
+        if (i >= n)
+          return fail(pp + "/indices", "index " + std::to_string(i) + " out of range (" +
+                                           std::to_string(n) + " vertices)");
+    } else {
+      if (n % 3)
+        return fail(ap + "/POSITION",
+                    std::to_string(n) + " vertices without indices do not make whole triangles");
+      out.indices.resize(n);
+      for (size_t i = 0; i < n; ++i) out.indices[i] = static_cast<uint32_t>(i);
+    }
+    if (material_index >= 0 && materials_[material_index].bake_uv) {
+      for (glm::vec2& uv : out.uvs) uv = materials_[material_index].uv.apply(uv);
+      out.tangents.clear();  // the frame follows the rotated uv
+    }
+    prepare_mesh(out);
+    scene_.meshes.push_back(std::move(out));
+    const int id = static_cast<int>(scene_.meshes.size()) - 1;
+    meshes_[key] = id;
+    return id;
+  }
+
+  // ---- nodes ----
+  Result<glm::dmat4> local_matrix(int index) const {
+    const tinygltf::Node& n = m_.nodes[index];
+    const std::string np = "/nodes/" + std::to_string(index);
+    auto finite = [&](const std::vector<double>& v, const char* key, size_t size) -> Status {
+      if (!v.empty() && v.size() != size)
+        return fail(np + "/" + key, "expected " + std::to_string(size) + " numbers");
+      for (size_t i = 0; i < v.size(); ++i)
+        if (!std::isfinite(v[i]))
+          return fail(np + "/" + key + "/" + std::to_string(i), "not finite");
+      return {};
+    };
+    RELIEF_RETURN_IF_ERROR(finite(n.matrix, "matrix", 16));
+    RELIEF_RETURN_IF_ERROR(finite(n.translation, "translation", 3));
+    RELIEF_RETURN_IF_ERROR(finite(n.rotation, "rotation", 4));
+    RELIEF_RETURN_IF_ERROR(finite(n.scale, "scale", 3));
+    if (n.matrix.size() == 16) return glm::make_mat4(n.matrix.data());
+    glm::dmat4 m(1.0);
+    if (n.translation.size() == 3)
+      m = glm::translate(m, glm::dvec3(n.translation[0], n.translation[1], n.translation[2]));
+    if (n.rotation.size() == 4) {
+      const glm::dquat q(n.rotation[3], n.rotation[0], n.rotation[1], n.rotation[2]);
+      if (glm::length(q) < 1e-6) return fail(np + "/rotation", "quaternion has zero length");
+      m = m * glm::mat4_cast(glm::normalize(q));
+    }
+    if (n.scale.size() == 3) m = glm::scale(m, glm::dvec3(n.scale[0], n.scale[1], n.scale[2]));
+    return m;
+  }
+
+  Status read_nodes() {
+    if (m_.scenes.empty()) {
+      if (!m_.nodes.empty()) return fail("/scenes", "the file has nodes but no scene");
+      return {};
+    }
+    const int si = m_.defaultScene >= 0 ? m_.defaultScene : 0;
+    if (si >= static_cast<int>(m_.scenes.size()))
+      return fail("/scene", "scene " + std::to_string(si) + " does not exist");
+    std::vector<bool> seen(m_.nodes.size(), false);
+    int order = 0;
+    std::function<Status(int, const glm::dmat4&, const std::string&)> visit =
+        [&](int index, const glm::dmat4& parent, const std::string& ref) -> Status {
+      if (index < 0 || index >= static_cast<int>(m_.nodes.size()))
+        return fail(ref, "node " + std::to_string(index) + " does not exist");
+      const std::string np = "/nodes/" + std::to_string(index);
+      if (seen[index])
+        return fail(ref,
+                    "node " + std::to_string(index) + " is reached twice (a cycle or two parents)");
+      seen[index] = true;
+      const tinygltf::Node& n = m_.nodes[index];
+      Result<glm::dmat4> local = local_matrix(index);
+      if (!local.ok()) return local.status();
+      const glm::dmat4 world = parent * *local;
+      if (n.skin >= 0) return fail(np + "/skin", "skins are not supported");
+      if (n.mesh >= 0) {
+        if (n.mesh >= static_cast<int>(m_.meshes.size()))
+          return fail(np + "/mesh", "mesh " + std::to_string(n.mesh) + " does not exist");
+        const auto& prims = m_.meshes[n.mesh].primitives;
+        for (size_t k = 0; k < prims.size(); ++k) {
+          int mat = prims[k].material;
+          if (mat >= static_cast<int>(materials_.size()))
+            return fail("/meshes/" + std::to_string(n.mesh) + "/primitives/" + std::to_string(k) +
+                            "/material",
+                        "material " + std::to_string(mat) + " does not exist");
+          Result<int> mesh = primitive_mesh(n.mesh, static_cast<int>(k), mat);
+          if (!mesh.ok()) return mesh.status();
+          if (mat < 0) {
+            if (default_material_ < 0) default_material_ = static_cast<int>(materials_.size());
+            mat = default_material_;
+          }
+          scene_.instances.push_back({*mesh, mat, glm::mat4(world)});
+        }
+      }
+      if (n.camera >= 0) {
+        if (n.camera >= static_cast<int>(m_.cameras.size()))
+          return fail(np + "/camera", "camera " + std::to_string(n.camera) + " does not exist");
+        camera_nodes_.push_back({n.camera, index, order++, world});
+      }
+      RELIEF_RETURN_IF_ERROR(read_node_light(index, world));
+      for (size_t c = 0; c < n.children.size(); ++c)
+        RELIEF_RETURN_IF_ERROR(visit(n.children[c], world, np + "/children/" + std::to_string(c)));
+      return {};
+    };
+    const auto& roots = m_.scenes[si].nodes;
+    for (size_t r = 0; r < roots.size(); ++r)
+      RELIEF_RETURN_IF_ERROR(
+          visit(roots[r], glm::dmat4(1.0),
+                "/scenes/" + std::to_string(si) + "/nodes/" + std::to_string(r)));
+    return {};
+  }
+
+  // ---- lights ----
+  Status read_node_light(int node, const glm::dmat4& world) {
+    const std::string np = "/nodes/" + std::to_string(node);
+    Result<json> ext = extension(m_.nodes[node].extensions_json_string, kLightsPunctual, np);
+    if (!ext.ok()) return ext.status();
+    if (ext->is_null()) return {};
+    const std::string ep = np + "/extensions/" + kLightsPunctual;
+    int li = -1;
+    if (!ext->contains("light")) return fail(ep, "missing 'light'");
+    RELIEF_RETURN_IF_ERROR(get_int(*ext, "light", ep, li, 0, 1 << 30));
+    if (li >= static_cast<int>(m_.lights.size()))
+      return fail(ep + "/light", "light " + std::to_string(li) + " does not exist");
+    const tinygltf::Light& gl = m_.lights[li];
+    const std::string lp =
+        std::string("/extensions/") + kLightsPunctual + "/lights/" + std::to_string(li);
+    Light l;
+    l.name = gl.name.empty() ? "light" + std::to_string(li) : gl.name;
+    if (gl.type == "directional")
+      l.type = LightType::kDirectional;
+    else if (gl.type == "point")
+      l.type = LightType::kPoint;
+    else if (gl.type == "spot")
+      l.type = LightType::kSpot;
+    else
+      return fail(lp + "/type",
+                  "unknown light type '" + gl.type + "' (directional, point or spot)");
+    if (!gl.color.empty()) {
+      if (gl.color.size() != 3) return fail(lp + "/color", "expected 3 numbers");
+      for (int i = 0; i < 3; ++i) {
+        if (!std::isfinite(gl.color[i]) || gl.color[i] < 0.0)
+          return fail(lp + "/color/" + std::to_string(i), "expected a number >= 0");
+        l.color[i] = static_cast<float>(gl.color[i]);
+      }
+    }
+    if (!std::isfinite(gl.intensity) || gl.intensity < 0.0)
+      return fail(lp + "/intensity", "expected a number >= 0");
+    l.intensity = static_cast<float>(gl.intensity);
+    if (!std::isfinite(gl.range) || gl.range < 0.0)
+      return fail(lp + "/range", "expected a number > 0");
+    l.range = static_cast<float>(gl.range);
+    if (l.type == LightType::kSpot) {
+      const double inner = gl.spot.innerConeAngle, outer = gl.spot.outerConeAngle;
+      if (!(outer > 0.0 && outer <= kPi / 2))
+        return fail(lp + "/spot/outerConeAngle", "expected an angle in (0, pi/2]");
+      if (!(inner >= 0.0 && inner < outer))
+        return fail(lp + "/spot/innerConeAngle", "expected an angle in [0, outerConeAngle)");
+      l.inner_cone_deg = static_cast<float>(inner * 180.0 / kPi);
+      l.outer_cone_deg = static_cast<float>(outer * 180.0 / kPi);
+    }
+    Result<json> rext = extension(gl.extensions_json_string, kReliefExtension, lp);
+    if (!rext.ok()) return rext.status();
+    if (!rext->is_null()) {
+      const std::string rp = lp + "/extensions/" + kReliefExtension;
+      RELIEF_RETURN_IF_ERROR(check_keys(*rext, rp, {"casts_shadows", "shadow_resolution"}));
+      RELIEF_RETURN_IF_ERROR(get_bool(*rext, "casts_shadows", rp, l.casts_shadows));
+      RELIEF_RETURN_IF_ERROR(
+          get_int(*rext, "shadow_resolution", rp, l.shadow_resolution, 16, 16384));
+    }
+    l.position = glm::vec3(world * glm::dvec4(0, 0, 0, 1));
+    l.direction = glm::vec3(glm::normalize(glm::dmat3(world) * glm::dvec3(0, 0, -1)));
+    scene_.lights.push_back(l);
+    return {};
+  }
+
+  // ---- cameras ----
+  void bounds(glm::dvec3& lo, glm::dvec3& hi) const {
+    lo = glm::dvec3(std::numeric_limits<double>::infinity());
+    hi = -lo;
+    for (const Instance& inst : scene_.instances)
+      for (const glm::vec3& p : scene_.meshes[inst.mesh].positions) {
+        const glm::dvec3 w(glm::dmat4(inst.transform) * glm::dvec4(glm::dvec3(p), 1.0));
+        lo = glm::min(lo, w);
+        hi = glm::max(hi, w);
+      }
+    if (lo.x > hi.x) lo = hi = glm::dvec3(0.0);
+  }
+
+  Status place_cameras() {
+    glm::dvec3 lo, hi;
+    bounds(lo, hi);
+    const glm::dvec3 centre = (lo + hi) * 0.5;
+    const double radius = std::max(glm::length(hi - lo) * 0.5, 1e-3);
+    if (camera_nodes_.empty()) {
+      scene_.cameras.push_back(default_camera(centre, radius));
+      return {};
+    }
+    std::stable_sort(camera_nodes_.begin(), camera_nodes_.end(),
+                     [](const CameraNode& a, const CameraNode& b) { return a.camera < b.camera; });
+    for (const CameraNode& cn : camera_nodes_) {
+      const tinygltf::Camera& gc = m_.cameras[cn.camera];
+      const std::string cp = "/cameras/" + std::to_string(cn.camera);
+      Camera c;
+      c.name = !gc.name.empty()                  ? gc.name
+               : !m_.nodes[cn.node].name.empty() ? m_.nodes[cn.node].name
+                                                 : "camera" + std::to_string(cn.camera);
+      double znear = 0.0, zfar = 0.0;
+      if (gc.type == "perspective") {
+        const auto& p = gc.perspective;
+        if (!(std::isfinite(p.yfov) && p.yfov > 0.0 && p.yfov < kPi))
+          return fail(cp + "/perspective/yfov", "expected an angle in (0, pi)");
+        c.yfov_deg = static_cast<float>(p.yfov * 180.0 / kPi);
+        znear = p.znear;
+        zfar = p.zfar;
+        if (!(std::isfinite(znear) && znear > 0.0))
+          return fail(cp + "/perspective/znear", "expected a number > 0");
+      } else if (gc.type == "orthographic") {
+        const auto& o = gc.orthographic;
+        if (!(std::isfinite(o.ymag) && o.ymag > 0.0))
+          return fail(cp + "/orthographic/ymag", "expected a number > 0");
+        c.orthographic = true;
+        c.ortho_half_height = static_cast<float>(o.ymag);
+        znear = o.znear;
+        zfar = o.zfar;
+        if (!(std::isfinite(znear) && znear >= 0.0))
+          return fail(cp + "/orthographic/znear", "expected a number >= 0");
+        if (!(zfar > 0.0)) return fail(cp + "/orthographic/zfar", "expected a number > 0");
+      } else {
+        return fail(cp + "/type", "unknown camera type '" + gc.type + "'");
+      }
+      const glm::dvec3 pos(cn.world * glm::dvec4(0, 0, 0, 1));
+      const glm::dmat3 rot(cn.world);
+      const glm::dvec3 fwd = glm::normalize(rot * glm::dvec3(0, 0, -1));
+      const glm::dvec3 node_up = glm::normalize(rot * glm::dvec3(0, 1, 0));
+      if (zfar == 0.0) {  // infinite perspective: reach past the farthest corner of the bounds
+        double far = 0.0;
+        for (int k = 0; k < 8; ++k) {
+          const glm::dvec3 corner((k & 1) ? hi.x : lo.x, (k & 2) ? hi.y : lo.y,
+                                  (k & 4) ? hi.z : lo.z);
+          far = std::max(far, glm::length(corner - pos));
+        }
+        zfar = std::max(far * 1.5, znear * 2.0);
+      }
+      if (!(std::isfinite(zfar) && zfar > znear))
+        return fail(cp + (c.orthographic ? "/orthographic" : "/perspective") + "/zfar",
+                    "expected a number > znear");
+      c.znear = static_cast<float>(znear);
+      c.zfar = static_cast<float>(zfar);
+      c.position = glm::vec3(pos);
+      // target: the point of the view ray nearest the centre of the scene bounds.
+      const double t = glm::dot(centre - pos, fwd);
+      c.target = glm::vec3(pos + fwd * (t > 1e-6 ? t : 1.0));
+      // up: world +y when the camera has no roll (the same view, canonically written).
+      const glm::dvec3 side = glm::cross(fwd, glm::dvec3(0, 1, 0));
+      const bool no_roll = glm::length(side) > 1e-6 &&
+                           std::abs(glm::dot(glm::normalize(side), node_up)) < 1e-9 &&
+                           node_up.y > 0.0;
+      c.up = no_roll ? glm::vec3(0, 1, 0) : glm::vec3(node_up);
+      scene_.cameras.push_back(c);
+    }
+    return {};
+  }
+
+  // No camera in the file: look at the centre of the bounds from +z, 30 degrees above the
+  // horizon, far enough for the bounding sphere to fit a 45-degree vertical field of view.
+  static Camera default_camera(const glm::dvec3& centre, double radius) {
+    Camera c;
+    c.name = "default";
+    c.yfov_deg = 45.0f;
+    const double dist = radius / std::sin(22.5 * kPi / 180.0);
+    const glm::dvec3 dir(0.0, std::sin(kPi / 6), std::cos(kPi / 6));
+    c.position = glm::vec3(centre + dir * dist);
+    c.target = glm::vec3(centre);
+    c.up = glm::vec3(0, 1, 0);
+    c.znear = static_cast<float>(dist * 0.01);
+    c.zfar = static_cast<float>(dist + 2.0 * radius);
+    return c;
+  }
+
+  std::string path_;
+  std::string base_dir_;
+  tinygltf::Model& m_;
+  Scene scene_;
+  std::vector<MaterialInfo> materials_;
+  int default_material_ = -1;
+  std::map<PrimitiveKey, int> meshes_;
+  std::map<std::tuple<int, int, bool>, TexturePtr> textures_;
+  std::vector<CameraNode> camera_nodes_;
+};
+
+// Keeps the encoded bytes; decoding happens in Reader::texture through OpenImageIO.
+bool keep_image_bytes(tinygltf::Image* image, const int, std::string*, std::string*, int, int,
+                      const unsigned char* bytes, int size, void*) {
+  image->image.assign(bytes, bytes + size);
+  return true;
+}
+
+bool has_suffix(const std::string& s, const char* suffix) {
+  const size_t n = std::strlen(suffix);
+  if (s.size() < n) return false;
+  for (size_t i = 0; i < n; ++i)
+    if (std::tolower(static_cast<unsigned char>(s[s.size() - n + i])) != suffix[i]) return false;
+  return true;
+}
+
+}  // namespace
+
+Result<Scene> load_gltf(const std::string& path) {
+  std::error_code ec;
+  if (!fs::exists(path, ec)) return Status::error(path + ": no such file");
+  if (fs::is_directory(path, ec)) return Status::error(path + ": is a directory, not a glTF file");
+  tinygltf::TinyGLTF loader;
+  loader.SetImageLoader(keep_image_bytes, nullptr);
+  loader.SetStoreOriginalJSONForExtrasAndExtensions(true);
+  tinygltf::Model model;
+  std::string err, warn;
+  bool ok = false;
+  if (has_suffix(path, ".glb"))
+    ok = loader.LoadBinaryFromFile(&model, &err, &warn, path);
+  else
+    ok = loader.LoadASCIIFromFile(&model, &err, &warn, path);
+  if (!ok) return Status::error(path + ": " + (err.empty() ? "cannot parse" : one_line(err)));
+  Reader reader(path, model);
+  return reader.read();
+}
+
+// ---- writing ----
+namespace {
+
+// A float as the shortest decimal that reads back as the same float.
+double shortest(float f) {
+  char buf[64];
+  auto r = std::to_chars(buf, buf + sizeof buf, f);
+  return std::strtod(std::string(buf, r.ptr).c_str(), nullptr);
+}
+ojson vec_json(const float* v, int n) {
+  ojson a = ojson::array();
+  for (int i = 0; i < n; ++i) a.push_back(shortest(v[i]));
+  return a;
+}
+
+// A double-precision quaternion (x, y, z, w) rotating -z onto `dir`.
+glm::dquat rotation_to(const glm::dvec3& dir) {
+  const glm::dvec3 a(0, 0, -1), b = glm::normalize(dir);
+  const double d = glm::dot(a, b);
+  if (d < -1.0 + 1e-12) return glm::dquat(0.0, 0.0, 1.0, 0.0);  // half turn about y
+  const glm::dvec3 c = glm::cross(a, b);
+  return glm::normalize(glm::dquat(1.0 + d, c.x, c.y, c.z));
+}
+ojson quat_json(const glm::dquat& q) {
+  return ojson::array({q.x, q.y, q.z, q.w});
+}
+
+class Writer {
+ public:
+  Writer(const Scene& s, std::string path) : s_(s), path_(std::move(path)) {
+    glb_ = has_suffix(path_, ".glb");
+    const fs::path p(path_);
+    dir_ = p.parent_path().empty() ? fs::path(".") : p.parent_path();
+    stem_ = p.stem().string();
+  }
+  ~Writer() {
+    for (const auto& [tmp, final_path] : files_) {
+      std::error_code ec;
+      fs::remove(tmp, ec);
+    }
+  }
+
+  Status write() {
+    std::error_code ec;
+    if (!fs::is_directory(dir_, ec)) return fail("directory does not exist");
+    doc_["asset"] = {{"version", "2.0"}, {"generator", "relief save_gltf"}};
+    used_.insert(kReliefExtension);
+    RELIEF_RETURN_IF_ERROR(write_materials());
+    write_meshes_and_nodes();
+    write_cameras();
+    write_lights();
+    ojson root_ext = ojson::object();
+    root_ext["ambient"] = vec_json(&s_.ambient[0], 3);
+    root_ext["background"] = vec_json(&s_.background[0], 4);
+    doc_["extensions"][kReliefExtension] = root_ext;
+    if (!lights_json_.empty()) doc_["extensions"][kLightsPunctual] = {{"lights", lights_json_}};
+    ojson scene_nodes = ojson::array();
+    for (size_t i = 0; i < nodes_.size(); ++i) scene_nodes.push_back(i);
+    doc_["scene"] = 0;
+    doc_["scenes"] = ojson::array({{{"name", s_.name}, {"nodes", scene_nodes}}});
+    doc_["nodes"] = nodes_;
+    doc_["extensionsUsed"] = ojson(std::vector<std::string>(used_.begin(), used_.end()));
+    while (bin_.size() % 4) bin_.push_back(0);
+    ojson buffer = {{"byteLength", bin_.size()}};
+    if (!glb_) {
+      buffer["uri"] = stem_ + ".bin";
+      RELIEF_RETURN_IF_ERROR(write_file(stem_ + ".bin", bin_));
+    }
+    doc_["buffers"] = ojson::array({buffer});
+    doc_["bufferViews"] = views_;
+    doc_["accessors"] = accessors_;
+    std::string text = doc_.dump(glb_ ? -1 : 1);
+    if (glb_) {
+      while (text.size() % 4) text.push_back(' ');
+      std::vector<uint8_t> out;
+      auto u32 = [&](uint32_t v) {
+        for (int i = 0; i < 4; ++i) out.push_back(static_cast<uint8_t>(v >> (8 * i)));
+      };
+      u32(0x46546C67);  // "glTF"
+      u32(2);
+      u32(static_cast<uint32_t>(12 + 8 + text.size() + 8 + bin_.size()));
+      u32(static_cast<uint32_t>(text.size()));
+      u32(0x4E4F534A);  // "JSON"
+      out.insert(out.end(), text.begin(), text.end());
+      u32(static_cast<uint32_t>(bin_.size()));
+      u32(0x004E4942);  // "BIN"
+      out.insert(out.end(), bin_.begin(), bin_.end());
+      RELIEF_RETURN_IF_ERROR(write_file(fs::path(path_).filename().string(), out));
+    } else {
+      text += "\n";
+      RELIEF_RETURN_IF_ERROR(write_file(fs::path(path_).filename().string(),
+                                        std::vector<uint8_t>(text.begin(), text.end())));
+    }
+    for (auto& [tmp, final_path] : files_) {
+      fs::rename(tmp, final_path, ec);
+      if (ec)
+        return Status::error(final_path.string() + ": cannot rename into place: " + ec.message());
+    }
+    files_.clear();
+    return {};
+  }
+
+ private:
+  Status fail(const std::string& what) const { return Status::error(path_ + ": " + what); }
+
+  Status write_file(const std::string& name, const std::vector<uint8_t>& bytes) {
+    static std::atomic<unsigned> counter{0};
+    const fs::path final_path = dir_ / name;
+    const fs::path tmp = dir_ / ("." + name + ".tmp" + std::to_string(::getpid()) + "_" +
+                                 std::to_string(counter.fetch_add(1)));
+    files_.emplace_back(tmp, final_path);
+    std::ofstream f(tmp, std::ios::binary);
+    f.write(reinterpret_cast<const char*>(bytes.data()),
+            static_cast<std::streamsize>(bytes.size()));
+    f.close();
+    if (!f) return Status::error(final_path.string() + ": cannot write");
+    return {};
+  }
+
+  size_t add_view(const void* data, size_t bytes, int target) {
+    while (bin_.size() % 4) bin_.push_back(0);
+    ojson v = {{"buffer", 0}, {"byteOffset", bin_.size()}, {"byteLength", bytes}};
+    if (target) v["target"] = target;
+    const uint8_t* p = static_cast<const uint8_t*>(data);
+    bin_.insert(bin_.end(), p, p + bytes);
+    views_.push_back(v);
+    return views_.size() - 1;
+  }
+  template <int N>
+  size_t add_accessor(const std::vector<glm::vec<N, float>>& v, bool bounds) {
+    const size_t view = add_view(v.data(), v.size() * sizeof(v[0]), 34962);
+    ojson a = {{"bufferView", view},
+               {"componentType", kFloat},
+               {"count", v.size()},
+               {"type", "VEC" + std::to_string(N)}};
+    if (bounds) {
+      glm::vec<N, float> lo = v[0], hi = v[0];
+      for (const auto& x : v) {
+        lo = glm::min(lo, x);
+        hi = glm::max(hi, x);
+      }
+      a["min"] = vec_json(&lo[0], N);
+      a["max"] = vec_json(&hi[0], N);
+    }
+    accessors_.push_back(a);
+    return accessors_.size() - 1;
+  }
+
+  // Level 0 of an 8-bit or R16 texture as PNG bytes (encoded through OpenImageIO).
+  Result<std::vector<uint8_t>> png_bytes(const Texture& t, const std::string& what) {
+    int ch = 0;
+    OIIO::TypeDesc type = OIIO::TypeDesc::UINT8;
+    switch (t.format()) {
+      case TexFormat::kR8:
+        ch = 1;
+        break;
+      case TexFormat::kRG8:
+        ch = 2;
+        break;
+      case TexFormat::kRGBA8:
+        ch = 4;
+        break;
+      case TexFormat::kR16:
+        ch = 1;
+        type = OIIO::TypeDesc::UINT16;
+        break;
+      default:
+        return fail(what + ": only 8-bit and R16 textures can be written as PNG");
+    }
+    const std::vector<uint8_t>& src = t.level(0).data;
+    const size_t n = static_cast<size_t>(t.width()) * t.height();
+    std::vector<uint8_t> px = src;
+    if (ch == 4) {  // drop an opaque alpha channel
+      bool opaque = true;
+      for (size_t i = 0; i < n && opaque; ++i) opaque = src[i * 4 + 3] == 255;
+      if (opaque) {
+        ch = 3;
+        px.resize(n * 3);
+        for (size_t i = 0; i < n; ++i)
+          for (int c = 0; c < 3; ++c) px[i * 3 + c] = src[i * 4 + c];
+      }
+    }
+    static std::atomic<unsigned> counter{0};
+    const fs::path tmp =
+        fs::temp_directory_path() / ("relief_gltf_out_" + std::to_string(::getpid()) + "_" +
+                                     std::to_string(counter.fetch_add(1)) + ".png");
+    OIIO::ImageSpec spec(t.width(), t.height(), ch, type);
+    spec.attribute("png:compressionLevel", 9);
+    std::unique_ptr<OIIO::ImageOutput> out = OIIO::ImageOutput::create("png");
+    bool ok = out && out->open(tmp.string(), spec) && out->write_image(type, px.data());
+    if (out) ok = out->close() && ok;
+    std::vector<uint8_t> bytes;
+    if (ok) {
+      std::ifstream f(tmp, std::ios::binary);
+      bytes.assign(std::istreambuf_iterator<char>(f), std::istreambuf_iterator<char>());
+    }
+    std::error_code ec;
+    fs::remove(tmp, ec);
+    if (!ok || bytes.empty()) return fail(what + ": cannot encode PNG");
+    return bytes;
+  }
+
+  Result<int> image_for(const TexturePtr& t, const std::string& label) {
+    if (auto it = images_.find(t.get()); it != images_.end()) return it->second;
+    Result<std::vector<uint8_t>> png = png_bytes(*t, label);
+    if (!png.ok()) return png.status();
+    ojson img;
+    if (glb_) {
+      img["bufferView"] = add_view(png->data(), png->size(), 0);
+      img["mimeType"] = "image/png";
+    } else {
+      std::string name = stem_ + "_" + label + ".png";
+      for (char& c : name)
+        if (!std::isalnum(static_cast<unsigned char>(c)) && c != '.' && c != '-') c = '_';
+      img["uri"] = name;
+      RELIEF_RETURN_IF_ERROR(write_file(name, *png));
+    }
+    doc_["images"].push_back(img);
+    const int index = static_cast<int>(doc_["images"].size()) - 1;
+    images_[t.get()] = index;
+    return index;
+  }
+
+  int sampler_for(const SamplerState& s) {
+    const int key = static_cast<int>(s.filter) * 100 + static_cast<int>(s.wrap_u) * 10 +
+                    static_cast<int>(s.wrap_v);
+    if (auto it = samplers_.find(key); it != samplers_.end()) return it->second;
+    auto wrap = [](Wrap w) {
+      return w == Wrap::kClamp ? kClampToEdge : w == Wrap::kMirror ? kMirroredRepeat : kRepeat;
+    };
+    const int min = s.filter == Filter::kNearest    ? kNearestMipNearest
+                    : s.filter == Filter::kBilinear ? kLinearMipNearest
+                                                    : kLinearMipLinear;
+    doc_["samplers"].push_back({{"magFilter", s.filter == Filter::kNearest ? kNearest : kLinear},
+                                {"minFilter", min},
+                                {"wrapS", wrap(s.wrap_u)},
+                                {"wrapT", wrap(s.wrap_v)}});
+    const int index = static_cast<int>(doc_["samplers"].size()) - 1;
+    samplers_[key] = index;
+    return index;
+  }
+
+  Result<ojson> texture_info(const Material& m, const TexturePtr& t, const std::string& label) {
+    Result<int> img = image_for(t, label);
+    if (!img.ok()) return img.status();
+    // (ordered_json keeps members in a vector: no reference into doc_ across an insertion)
+    const int sampler = sampler_for(m.sampler);
+    ojson tex = {{"sampler", sampler}, {"source", *img}};
+    doc_["textures"].push_back(tex);
+    ojson info = {{"index", doc_["textures"].size() - 1}};
+    if (m.uv_scale != glm::vec2(1.0f) || m.uv_offset != glm::vec2(0.0f)) {
+      ojson tt = ojson::object();
+      if (m.uv_offset != glm::vec2(0.0f)) tt["offset"] = vec_json(&m.uv_offset[0], 2);
+      if (m.uv_scale != glm::vec2(1.0f)) tt["scale"] = vec_json(&m.uv_scale[0], 2);
+      info["extensions"][kTextureTransform] = tt;
+      used_.insert(kTextureTransform);
+    }
+    return info;
+  }
+
+  static bool same_texture(const Texture& a, const Texture& b) {
+    if (a.format() != b.format() || a.levels() != b.levels() || a.color_space() != b.color_space())
+      return false;
+    for (int l = 0; l < a.levels(); ++l)
+      if (a.level(l).data != b.level(l).data) return false;
+    return true;
+  }
+
+  Status write_materials() {
+    doc_["materials"] = ojson::array();
+    for (size_t i = 0; i < s_.materials.size(); ++i) {
+      const Material& m = s_.materials[i];
+      const std::string label = m.name.empty() ? "material" + std::to_string(i) : m.name;
+      for (const auto& [slot, tex] : m.textures)
+        if (slot != "base_color" && slot != "normal" && slot != "depth" && slot != "cone")
+          return fail("material '" + label + "': texture slot '" + slot + "' has no glTF form");
+      ojson gm = {{"name", m.name}};
+      ojson pbr = {{"baseColorFactor", vec_json(&m.base_color[0], 4)}, {"metallicFactor", 0.0}};
+      if (auto it = m.textures.find("base_color"); it != m.textures.end()) {
+        Result<ojson> ti = texture_info(m, it->second, label + "_base_color");
+        if (!ti.ok()) return ti.status();
+        pbr["baseColorTexture"] = *ti;
+      }
+      gm["pbrMetallicRoughness"] = pbr;
+      if (m.double_sided) gm["doubleSided"] = true;
+      ojson e = {{"technique", m.technique}};
+      auto depth = m.textures.find("depth");
+      auto normal = m.textures.find("normal");
+      bool write_normal = normal != m.textures.end();
+      if (depth != m.textures.end()) {
+        Result<ojson> ti = texture_info(m, depth->second, label + "_depth");
+        if (!ti.ok()) return ti.status();
+        e["depth_texture"] = *ti;
+        if (!write_normal)
+          e["normal_from_depth"] = false;
+        else if (same_texture(*normal->second, derived_normal_map(m, *depth->second)))
+          write_normal = false;  // load_gltf derives the same map
+      }
+      if (write_normal) {
+        Result<ojson> ti = texture_info(m, normal->second, label + "_normal");
+        if (!ti.ok()) return ti.status();
+        gm["normalTexture"] = *ti;
+      }
+      if (auto it = m.textures.find("cone"); it != m.textures.end()) {
+        Result<ojson> ti = texture_info(m, it->second, label + "_cone");
+        if (!ti.ok()) return ti.status();
+        e["cone_texture"] = *ti;
+      }
+      ojson params = ojson::object();
+      for (const auto& [k, v] : m.params) {
+        if (k == "depth_scale" || k == "steps" || k == "binary_steps")
+          e[k] = shortest(v);
+        else
+          params[k] = shortest(v);
+      }
+      if (!params.empty()) e["params"] = params;
+      e["self_shadow"] = m.self_shadow;
+      e["depth_write"] = m.depth_write;
+      e["silhouette"] = m.silhouette;
+      e["casts_shadow"] = m.casts_shadow;
+      e["receives_shadow"] = m.receives_shadow;
+      e["specular"] = shortest(m.specular);
+      e["shininess"] = shortest(m.shininess);
+      if (m.sampler.filter == Filter::kAnisotropic) e["max_anisotropy"] = m.sampler.max_aniso;
+      gm["extensions"][kReliefExtension] = e;
+      doc_["materials"].push_back(gm);
+    }
+    return {};
+  }
+
+  void write_meshes_and_nodes() {
+    std::map<std::pair<int, int>, size_t> gmesh;  // (mesh, material) -> glTF mesh
+    doc_["meshes"] = ojson::array();
+    for (const Instance& inst : s_.instances) {
+      const auto key = std::make_pair(inst.mesh, inst.material);
+      if (!gmesh.count(key)) {
+        const Mesh& mesh = s_.meshes[inst.mesh];
+        ojson attrs = {{"POSITION", add_accessor<3>(mesh.positions, true)}};
+        if (mesh.normals.size() == mesh.positions.size())
+          attrs["NORMAL"] = add_accessor<3>(mesh.normals, false);
+        if (mesh.uvs.size() == mesh.positions.size())
+          attrs["TEXCOORD_0"] = add_accessor<2>(mesh.uvs, false);
+        if (mesh.tangents.size() == mesh.positions.size())
+          attrs["TANGENT"] = add_accessor<4>(mesh.tangents, false);
+        const size_t iv =
+            add_view(mesh.indices.data(), mesh.indices.size() * sizeof(uint32_t), 34963);
+        accessors_.push_back({{"bufferView", iv},
+                              {"componentType", kUInt},
+                              {"count", mesh.indices.size()},
+                              {"type", "SCALAR"}});
+        ojson prim = {
+            {"attributes", attrs}, {"indices", accessors_.size() - 1}, {"material", inst.material}};
+        doc_["meshes"].push_back({{"name", mesh.name}, {"primitives", ojson::array({prim})}});
+        gmesh[key] = doc_["meshes"].size() - 1;
+      }
+      ojson node = {{"mesh", gmesh[key]}};
+      if (inst.transform != glm::mat4(1.0f))
+        node["matrix"] = vec_json(glm::value_ptr(inst.transform), 16);
+      nodes_.push_back(node);
+    }
+  }
+
+  void write_cameras() {
+    for (const Camera& c : s_.cameras) {
+      ojson gc = {{"name", c.name}};
+      if (c.orthographic) {
+        gc["type"] = "orthographic";
+        gc["orthographic"] = {{"xmag", shortest(c.ortho_half_height)},
+                              {"ymag", shortest(c.ortho_half_height)},
+                              {"znear", shortest(c.znear)},
+                              {"zfar", shortest(c.zfar)}};
+      } else {
+        gc["type"] = "perspective";
+        gc["perspective"] = {{"yfov", double(c.yfov_deg) * kPi / 180.0},
+                             {"znear", shortest(c.znear)},
+                             {"zfar", shortest(c.zfar)}};
+      }
+      doc_["cameras"].push_back(gc);
+      // The camera-to-world rotation of lookAt(position, target, up), in double precision.
+      const glm::dvec3 pos(c.position);
+      const glm::dvec3 f = glm::normalize(glm::dvec3(c.target) - pos);
+      const glm::dvec3 side = glm::normalize(glm::cross(f, glm::dvec3(c.up)));
+      const glm::dvec3 up = glm::cross(side, f);
+      const glm::dquat q = glm::normalize(glm::quat_cast(glm::dmat3(side, up, -f)));
+      nodes_.push_back({{"name", c.name},
+                        {"camera", doc_["cameras"].size() - 1},
+                        {"translation", vec_json(&c.position[0], 3)},
+                        {"rotation", quat_json(q)}});
+    }
+  }
+
+  void write_lights() {
+    for (const Light& l : s_.lights) {
+      // glTF colours lie in [0, 1]: a brighter colour moves its scale into the intensity.
+      const float peak = std::max({l.color.r, l.color.g, l.color.b});
+      const glm::vec3 color = peak > 1.0f ? l.color / peak : l.color;
+      const float intensity = peak > 1.0f ? l.intensity * peak : l.intensity;
+      ojson gl = {{"name", l.name},
+                  {"type", l.type == LightType::kDirectional ? "directional"
+                           : l.type == LightType::kPoint     ? "point"
+                                                             : "spot"},
+                  {"color", vec_json(&color[0], 3)},
+                  {"intensity", shortest(intensity)}};
+      if (l.range > 0.0f) gl["range"] = shortest(l.range);
+      if (l.type == LightType::kSpot)
+        gl["spot"] = {{"innerConeAngle", double(l.inner_cone_deg) * kPi / 180.0},
+                      {"outerConeAngle", double(l.outer_cone_deg) * kPi / 180.0}};
+      gl["extensions"][kReliefExtension] = {{"casts_shadows", l.casts_shadows},
+                                            {"shadow_resolution", l.shadow_resolution}};
+      lights_json_.push_back(gl);
+      ojson node = {{"name", l.name}};
+      if (l.type != LightType::kDirectional) node["translation"] = vec_json(&l.position[0], 3);
+      if (l.type != LightType::kPoint)
+        node["rotation"] = quat_json(rotation_to(glm::dvec3(l.direction)));
+      node["extensions"][kLightsPunctual] = {{"light", lights_json_.size() - 1}};
+      nodes_.push_back(node);
+      used_.insert(kLightsPunctual);
+    }
+  }
+
+  const Scene& s_;
+  std::string path_;
+  bool glb_ = false;
+  fs::path dir_;
+  std::string stem_;
+  ojson doc_ = ojson::object();
+  ojson nodes_ = ojson::array();
+  ojson views_ = ojson::array();
+  ojson accessors_ = ojson::array();
+  ojson lights_json_ = ojson::array();
+  std::vector<uint8_t> bin_;
+  std::set<std::string> used_;
+  std::map<const Texture*, int> images_;
+  std::map<int, int> samplers_;
+  std::vector<std::pair<fs::path, fs::path>> files_;  // temporary -> final
+};
+
+}  // namespace
+
+Status save_gltf(const Scene& scene, const std::string& path) {
+  if (!has_suffix(path, ".gltf") && !has_suffix(path, ".glb"))
+    return Status::usage(path + ": expected a .gltf or .glb file name");
+  Writer w(scene, path);
+  return w.write();
+}
+
+}  // namespace relief

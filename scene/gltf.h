@@ -1,0 +1,40 @@
+// glTF 2.0 scenes (.gltf and .glb) through tinygltf, with the relief material extension
+// `RELIEF_relief_mapping` (docs/scene-format.md, schema docs/relief_mapping.schema.json).
+//
+// What is read: the default scene (else scene 0) and its node hierarchy (matrix or TRS, composed
+// in double precision), meshes and their TRIANGLES primitives (indexed or not) with POSITION,
+// NORMAL, TEXCOORD_0 and TANGENT (missing normals and tangents are made by scene/mesh_prep),
+// baseColorFactor / baseColorTexture, normalTexture, samplers, KHR_texture_transform,
+// KHR_lights_punctual and perspective / orthographic cameras. Images decode through
+// scene/image_io (OpenImageIO): base colour as sRGB, everything else linear.
+// Conventions: glTF's (right-handed, y up, cameras and lights look down their node's -z);
+// Scene::cameras holds one entry per node that references a camera, ordered by camera index and
+// then by node traversal order (so with each camera used once, entry i is /cameras/i). A file
+// with no camera gets the default framing described in docs/scene-format.md.
+//
+// Errors: one line, "<file>: <JSON pointer>: <what>", e.g.
+//   scene.gltf: /meshes/0/primitives/0/indices: index 9 out of range (8 vertices)
+#pragma once
+
+#include <string>
+
+#include "rasterizer/status.h"
+#include "scene/scene.h"
+
+namespace relief {
+
+inline constexpr const char* kReliefExtension = "RELIEF_relief_mapping";
+
+// Loads a .gltf or .glb file. Relief techniques and parameters are checked against the plugin
+// registry (PluginRegistry::global()), so external plugins must be loaded before.
+Result<Scene> load_gltf(const std::string& path);
+
+// Writes `scene` as glTF: .gltf (JSON, a .bin buffer and one PNG per texture next to it, named
+// after the file's stem) or .glb (everything embedded). Textures must be 8-bit (R8, RG8, RGBA8) or
+// R16; a normal texture that equals the one load_gltf derives from the depth map is left out.
+// Every file is written to a temporary name and renamed into place once all are written.
+// load_gltf(save_gltf(s)) reproduces s's meshes, materials, lights and cameras bit for bit
+// (camera and light orientations through double-precision quaternions; see the docs).
+Status save_gltf(const Scene& scene, const std::string& path);
+
+}  // namespace relief
