@@ -1199,6 +1199,20 @@ Result<Scene> load_gltf(const std::string& path) {
   std::error_code ec;
   if (!fs::exists(path, ec)) return Status::error(path + ": no such file");
   if (fs::is_directory(path, ec)) return Status::error(path + ": is a directory, not a glTF file");
+  if (has_suffix(path, ".glb")) {
+    // The GLB header (magic, version, total length) first, for a clearer error than tinygltf's.
+    std::ifstream f(path, std::ios::binary);
+    uint32_t header[3] = {0, 0, 0};
+    f.read(reinterpret_cast<char*>(header), sizeof header);
+    const uintmax_t size = fs::file_size(path, ec);
+    if (f.gcount() < 12 || header[0] != 0x46546C67u)
+      return Status::error(path + ": not a GLB file (no 'glTF' header)");
+    if (header[1] != 2)
+      return Status::error(path + ": GLB version " + std::to_string(header[1]) + ", expected 2");
+    if (size < header[2])
+      return Status::error(path + ": truncated GLB: the header gives " + std::to_string(header[2]) +
+                           " bytes, the file has " + std::to_string(size));
+  }
   tinygltf::TinyGLTF loader;
   loader.SetImageLoader(keep_image_bytes, nullptr);
   loader.SetStoreOriginalJSONForExtrasAndExtensions(true);
@@ -1524,10 +1538,12 @@ class Writer {
       }
       ojson params = ojson::object();
       for (const auto& [k, v] : m.params) {
+        ojson value = shortest(v);
+        if (std::floor(v) == v && std::abs(v) < 1e9f) value = static_cast<int64_t>(v);
         if (k == "depth_scale" || k == "steps" || k == "binary_steps")
-          e[k] = shortest(v);
+          e[k] = value;
         else
-          params[k] = shortest(v);
+          params[k] = value;
       }
       if (!params.empty()) e["params"] = params;
       e["self_shadow"] = m.self_shadow;
