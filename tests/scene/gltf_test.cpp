@@ -183,47 +183,52 @@ void expect_same_pixels(const Framebuffer& a, const Framebuffer& b) {
   EXPECT_TRUE(same_bytes(a.depth.values, b.depth.values)) << "depth differs";
 }
 
-// Saves the built-in plane, loads it back and checks scene and pixels. The light direction is the
-// one quantity that goes through a rounding (a unit vector from a quaternion, back to float): it
-// is checked to one ulp, the frame difference it makes is printed, and with the built-in's
+// Compares a built-in scene with its glTF form, scene and pixels. The light direction is the one
+// quantity that goes through a rounding (a unit vector from a quaternion, back to float): it is
+// checked to one ulp, the frame difference it makes is printed, and with the built-in's
 // direction bits the frames are bit-identical.
-void expect_plane_round_trip(const Scene& builtin, Scene loaded) {
+void expect_round_trip(const Scene& builtin, Scene loaded) {
   expect_same_scene(builtin, loaded);
   const PixelDiff d = diff(render(builtin, 320, 180), render(loaded, 320, 180));
-  std::printf("plane through glTF at 320x180: %zu pixels differ, max channel difference %g\n",
-              d.pixels, d.max_abs);
+  std::printf("%s through glTF at 320x180: %zu pixels differ, max channel difference %g\n",
+              builtin.name.c_str(), d.pixels, d.max_abs);
   for (size_t i = 0; i < loaded.lights.size(); ++i)
     loaded.lights[i].direction = builtin.lights[i].direction;
   expect_same_pixels(render(builtin, 320, 180), render(loaded, 320, 180));
 }
 
-// Loads `file` (first written from the built-in plane when `save_first`) and compares it with
-// the built-in plane.
-void expect_plane_file(const std::string& file, bool save_first) {
-  Result<Scene> builtin = make_builtin_scene("plane");
+// Loads `file` (first written from the built-in scene when `save_first`) and compares it with
+// the built-in scene `name`.
+void expect_builtin_file(const std::string& name, const std::string& file, bool save_first) {
+  SCOPED_TRACE(file);
+  Result<Scene> builtin = make_builtin_scene(name);
   ASSERT_TRUE(builtin.ok());
   if (save_first) {
     ASSERT_TRUE(save_gltf(*builtin, file).ok());
   }
   Result<Scene> loaded = load_gltf(file);
   ASSERT_TRUE(loaded.ok()) << loaded.status().message();
-  expect_plane_round_trip(*builtin, *loaded);
+  expect_round_trip(*builtin, *loaded);
 }
 
 TEST_F(Gltf, BuiltinPlaneRoundTripsThroughGltf) {
-  expect_plane_file(path("plane.gltf"), true);
+  expect_builtin_file("plane", path("plane.gltf"), true);
 }
 
 TEST_F(Gltf, BuiltinPlaneRoundTripsThroughGlb) {
-  expect_plane_file(path("plane.glb"), true);
+  expect_builtin_file("plane", path("plane.glb"), true);
   // One self-contained file: images and buffer embedded.
   EXPECT_EQ(std::distance(fs::directory_iterator(dir_), fs::directory_iterator()), 1);
 }
 
-// scenes/plane.gltf is `relief export plane -o scenes/plane.gltf`; if the built-in plane changes,
-// run that again.
-TEST_F(Gltf, ShippedPlaneRendersLikeTheBuiltin) {
-  expect_plane_file(std::string(RELIEF_SOURCE_DIR) + "/scenes/plane.gltf", false);
+// scenes/NAME.gltf is `relief export NAME -o scenes/NAME.gltf`; when a built-in scene changes,
+// run that again. plane must be there; every other shipped built-in is checked too.
+TEST_F(Gltf, ShippedScenesRenderLikeTheBuiltins) {
+  const std::string dir = std::string(RELIEF_SOURCE_DIR) + "/scenes/";
+  ASSERT_TRUE(fs::exists(dir + "plane.gltf"));
+  for (const BuiltinSceneInfo& info : builtin_scenes())
+    if (fs::exists(dir + info.name + ".gltf"))
+      expect_builtin_file(info.name, dir + info.name + ".gltf", false);
 }
 
 // ---- hand-made files ----
