@@ -63,6 +63,99 @@ struct Field {
   }
 };
 
+// Destinations of a bake: the texels themselves (texel-point cones) or, for cones safe on the
+// bilinear surface, the patches between texel centres, each with the minimum of its corners.
+// Grid index g stands for destination coordinate g + origin (texel, or the patch's low corner).
+struct Destinations {
+  bool patches = false;
+  int origin = 0;  // 0, or -1 for clamped patches (the half-texel strips at the borders)
+  Field grid;      // destination depths; wrap as the source
+  // Per source texel (patches only): the apex depth bound A (bilinear maximum over the texel's
+  // cell) and the near ratio 1 / L (L: steepest bilinear gradient over the 4 patches around it).
+  std::vector<float> apex, near;
+};
+
+// Per-axis gap in texels between a source cell [-1/2, 1/2] and the patch [o, o + 1].
+inline int gap2(int o) {  // twice the gap, exact in integers
+  return std::max({0, 2 * o - 1, -2 * o - 3});
+}
+inline int range_gap2(int o0, int o1) {
+  if (o0 <= 0 && o1 >= -1) return 0;
+  return std::min(gap2(o0), gap2(o1));
+}
+
+// uv distance between the source and destinations at offsets [ox0, ox1] x [oy0, oy1].
+inline float range_dist(const Field& f, const Destinations& d, int ox0, int ox1, int oy0, int oy1) {
+  if (!d.patches) return f.dist(std::clamp(0, ox0, ox1), std::clamp(0, oy0, oy1));
+  const float a = 0.5f * static_cast<float>(range_gap2(ox0, ox1)) / static_cast<float>(f.w);
+  const float b = 0.5f * static_cast<float>(range_gap2(oy0, oy1)) / static_cast<float>(f.h);
+  return std::sqrt(a * a + b * b);
+}
+
+// The 4 patches around a source texel are "near": bounded by the gradient, not by distance.
+inline bool near_patch(const Destinations& d, int ox, int oy) {
+  return d.patches ? (ox >= -1 && ox <= 0 && oy >= -1 && oy <= 0) : (ox == 0 && oy == 0);
+}
+
+// Quad half-plane membership (+u, -u, +v, -v): closed for texels; for patches, those a ray
+// starting anywhere in the source cell can reach.
+inline void half_planes(const Destinations& d, int ox, int oy, bool in[4]) {
+  const int lo = d.patches ? -1 : 0;
+  in[0] = ox >= lo;
+  in[1] = ox <= 0;
+  in[2] = oy >= lo;
+  in[3] = oy <= 0;
+}
+
+Destinations make_destinations(const Field& f, bool patches) {
+  Destinations d;
+  d.patches = patches;
+  if (!patches) {
+    d.grid = f;
+    return d;
+  }
+  d.origin = f.wrap ? 0 : -1;
+  d.grid.wrap = f.wrap;
+  d.grid.w = f.wrap ? f.w : f.w + 1;
+  d.grid.h = f.wrap ? f.h : f.h + 1;
+  d.grid.d.resize(static_cast<size_t>(d.grid.w) * d.grid.h);
+  for (int gy = 0; gy < d.grid.h; ++gy)
+    for (int gx = 0; gx < d.grid.w; ++gx) {
+      const int x = gx + d.origin, y = gy + d.origin;
+      d.grid.d[static_cast<size_t>(gy) * d.grid.w + gx] =
+          std::min({f.cell(x, y), f.cell(x + 1, y), f.cell(x, y + 1), f.cell(x + 1, y + 1)});
+    }
+  d.apex.resize(f.d.size());
+  d.near.resize(f.d.size());
+  const float fw = static_cast<float>(f.w), fh = static_cast<float>(f.h);
+  for (int y = 0; y < f.h; ++y)
+    for (int x = 0; x < f.w; ++x) {
+      // bilinear maximum over the cell: at the corners of its four quarters
+      float a = f.at(x, y);
+      for (int sy = -1; sy <= 1; sy += 2)
+        for (int sx = -1; sx <= 1; sx += 2) {
+          const float c = f.at(x, y), ex = f.cell(x + sx, y), ey = f.cell(x, y + sy),
+                      exy = f.cell(x + sx, y + sy);
+          a = std::max({a, 0.5f * (c + ex), 0.5f * (c + ey), 0.25f * (c + ex + ey + exy)});
+        }
+      // steepest gradient (depth per uv) of the four patches: at their corners
+      float g2 = 0.0f;
+      for (int py = y - 1; py <= y; ++py)
+        for (int px = x - 1; px <= x; ++px) {
+          const float c00 = f.cell(px, py), c10 = f.cell(px + 1, py), c01 = f.cell(px, py + 1),
+                      c11 = f.cell(px + 1, py + 1);
+          for (float gx : {c10 - c00, c11 - c01})
+            for (float gy : {c01 - c00, c11 - c10})
+              g2 = std::max(g2, gx * fw * gx * fw + gy * fh * gy * fh);
+        }
+      const size_t i = static_cast<size_t>(y) * f.w + x;
+      // rounded up so the float quotients below never exceed the real bounds
+      d.apex[i] = std::nextafter(a, kInf);
+      d.near[i] = g2 > 0.0f ? 1.0f / std::nextafter(std::sqrt(g2), kInf) : kInf;
+    }
+  return d;
+}
+
 Field read_field(const Texture& depth, bool wrap) {
   CHECK(!depth.empty());
   Field f;
@@ -139,48 +232,62 @@ int channels_of(ConeKind kind) {
 }
 
 void check_options(const ConeBakeOptions& o) {
+  CHECK(!(o.bilinear && o.kind == ConeKind::kRelaxed));
   CHECK(o.max_ratio > 0.0f);
   CHECK(std::isfinite(o.max_ratio));
 }
 
+// Lowers the ratios r[] by destination j at offset (ox, oy) with depth dj and distance D from
+// a source of depth di (conservative and quad kinds).
+inline void lower(const Destinations& dst, ConeKind kind, int ox, int oy, float di, float dj,
+                  float D, float* r) {
+  const float v = D / (di - dj);
+  if (kind == ConeKind::kConservative) {
+    r[0] = std::min(r[0], v);
+    return;
+  }
+  bool in[4];
+  half_planes(dst, ox, oy, in);
+  for (int c = 0; c < 4; ++c)
+    if (in[c]) r[c] = std::min(r[c], v);
+}
+
+// The source's apex depth and initial ratios (the near bound for patches).
+inline float start_texel(const Field& f, const Destinations& dst, float R, int x, int y, float* r) {
+  const size_t i = static_cast<size_t>(y) * f.w + x;
+  const float r0 = dst.patches ? std::min(R, dst.near[i]) : R;
+  for (int c = 0; c < 4; ++c) r[c] = r0;
+  return dst.patches ? dst.apex[i] : f.at(x, y);
+}
+
 // ---- brute force: every pair ----
 
-void brute_texel(const Field& f, const ConeBakeOptions& o, int x, int y, float* out) {
-  const float di = f.at(x, y);
+void brute_texel(const Field& f, const Destinations& dst, const ConeBakeOptions& o, int x, int y,
+                 float* out) {
   const float R = o.max_ratio;
-  float r[4] = {R, R, R, R};
+  float r[4];
+  const float di = start_texel(f, dst, R, x, y, r);
   int ox0, ox1, oy0, oy1;
   if (f.wrap) {
     // Offsets with D >= R d_i give ratios >= R: the box |ox| <= R d_i w, |oy| <= R d_i h holds all
-    // others.
-    const int bx = static_cast<int>(std::ceil(R * di * f.w)) + 1;
-    const int by = static_cast<int>(std::ceil(R * di * f.h)) + 1;
+    // others (two more for the patches' half-texel gaps).
+    const int bx = static_cast<int>(std::ceil(R * di * f.w)) + 3;
+    const int by = static_cast<int>(std::ceil(R * di * f.h)) + 3;
     ox0 = -bx, ox1 = bx, oy0 = -by, oy1 = by;
   } else {
-    ox0 = -x, ox1 = f.w - 1 - x, oy0 = -y, oy1 = f.h - 1 - y;
+    ox0 = dst.origin - x, ox1 = dst.grid.w - 1 + dst.origin - x;
+    oy0 = dst.origin - y, oy1 = dst.grid.h - 1 + dst.origin - y;
   }
   for (int oy = oy0; oy <= oy1; ++oy)
     for (int ox = ox0; ox <= ox1; ++ox) {
-      if (ox == 0 && oy == 0) continue;
-      const float dj = f.cell(x + ox, y + oy);
+      if (near_patch(dst, ox, oy)) continue;
+      const float dj = dst.grid.cell(x + ox - dst.origin, y + oy - dst.origin);
       if (!(dj < di)) continue;
-      const float D = f.dist(ox, oy);
-      switch (o.kind) {
-        case ConeKind::kConservative:
-          r[0] = std::min(r[0], D / (di - dj));
-          break;
-        case ConeKind::kQuad: {
-          const float v = D / (di - dj);
-          if (ox >= 0) r[0] = std::min(r[0], v);
-          if (ox <= 0) r[1] = std::min(r[1], v);
-          if (oy >= 0) r[2] = std::min(r[2], v);
-          if (oy <= 0) r[3] = std::min(r[3], v);
-          break;
-        }
-        case ConeKind::kRelaxed:
-          r[0] = std::min(r[0], relaxed_pair(f, x, y, ox, oy, di, dj, D, R));
-          break;
-      }
+      const float D = range_dist(f, dst, ox, ox, oy, oy);
+      if (o.kind == ConeKind::kRelaxed)
+        r[0] = std::min(r[0], relaxed_pair(f, x, y, ox, oy, di, dj, D, R));
+      else
+        lower(dst, o.kind, ox, oy, di, dj, D, r);
     }
   for (int c = 0; c < channels_of(o.kind); ++c) out[c] = r[c];
 }
@@ -222,18 +329,19 @@ MinTree build_tree(const Field& f) {
 
 struct Node {
   int level, nx, ny;  // node of the tree
-  int bx, by;         // texel offset of the tree copy (image of the map) in the tiled plane
+  int bx, by;         // offset of the tree copy (image of the grid) in the tiled plane
   float dmin;         // nearest offset distance from the source texel
 };
 
 class FastBaker {
  public:
-  FastBaker(const Field& f, const MinTree& t, const ConeBakeOptions& o) : f_(f), t_(t), o_(o) {}
+  FastBaker(const Field& f, const Destinations& dst, const MinTree& t, const ConeBakeOptions& o)
+      : f_(f), g_(dst.grid), dst_(dst), t_(t), o_(o) {}
 
   void texel(int x, int y, float* out) {
-    const float di = f_.at(x, y);
     const float R = o_.max_ratio;
-    float r[4] = {R, R, R, R};
+    float r[4];
+    const float di = start_texel(f_, dst_, R, x, y, r);
     const int nc = channels_of(o_.kind);
     const int top = static_cast<int>(t_.levels.size()) - 1;
     stack_.clear();
@@ -241,7 +349,7 @@ class FastBaker {
       if (f_.wrap) {
         const int ax = static_cast<int>(std::ceil(R)) + 1, ay = ax;
         for (int iy = -ay; iy <= ay; ++iy)
-          for (int ix = -ax; ix <= ax; ++ix) push(x, y, top, 0, 0, ix * f_.w, iy * f_.h);
+          for (int ix = -ax; ix <= ax; ++ix) push(x, y, top, 0, 0, ix * g_.w, iy * g_.h);
         std::sort(stack_.begin(), stack_.end(),
                   [](const Node& a, const Node& b) { return a.dmin > b.dmin; });
       } else {
@@ -258,34 +366,21 @@ class FastBaker {
       if (n.dmin > rmax * (di - m) * kCullSlack) continue;
       const int x0 = n.nx << n.level, y0 = n.ny << n.level;
       if (n.level <= 2) {
-        // Small block: every texel.
-        const int x1 = std::min(x0 + (1 << n.level), f_.w),
-                  y1 = std::min(y0 + (1 << n.level), f_.h);
+        // Small block: every destination.
+        const int x1 = std::min(x0 + (1 << n.level), g_.w),
+                  y1 = std::min(y0 + (1 << n.level), g_.h);
         for (int ty = y0; ty < y1; ++ty)
           for (int tx = x0; tx < x1; ++tx) {
-            const int ox = tx + n.bx - x, oy = ty + n.by - y;
-            if (ox == 0 && oy == 0) continue;
-            const float dj = f_.at(tx, ty);
+            const int ox = tx + dst_.origin + n.bx - x, oy = ty + dst_.origin + n.by - y;
+            if (near_patch(dst_, ox, oy)) continue;
+            const float dj = g_.at(tx, ty);
             if (!(dj < di)) continue;
-            const float D = f_.dist(ox, oy);
-            switch (o_.kind) {
-              case ConeKind::kConservative:
-                if (D > r[0] * (di - dj) * kCullSlack) break;
-                r[0] = std::min(r[0], D / (di - dj));
-                break;
-              case ConeKind::kQuad: {
-                const float v = D / (di - dj);
-                if (ox >= 0) r[0] = std::min(r[0], v);
-                if (ox <= 0) r[1] = std::min(r[1], v);
-                if (oy >= 0) r[2] = std::min(r[2], v);
-                if (oy <= 0) r[3] = std::min(r[3], v);
-                break;
-              }
-              case ConeKind::kRelaxed:
-                if (D > r[0] * (di - dj) * kCullSlack) break;
-                r[0] = std::min(r[0], relaxed_pair(f_, x, y, ox, oy, di, dj, D, r[0]));
-                break;
-            }
+            const float D = range_dist(f_, dst_, ox, ox, oy, oy);
+            if (o_.kind != ConeKind::kQuad && D > r[0] * (di - dj) * kCullSlack) continue;
+            if (o_.kind == ConeKind::kRelaxed)
+              r[0] = std::min(r[0], relaxed_pair(f_, x, y, ox, oy, di, dj, D, r[0]));
+            else
+              lower(dst_, o_.kind, ox, oy, di, dj, D, r);
           }
         continue;
       }
@@ -303,13 +398,15 @@ class FastBaker {
 
  private:
   void push(int x, int y, int L, int nx, int ny, int bx, int by) {
-    const int x0 = (nx << L) + bx - x, x1 = std::min((nx + 1) << L, f_.w) - 1 + bx - x;
-    const int y0 = (ny << L) + by - y, y1 = std::min((ny + 1) << L, f_.h) - 1 + by - y;
-    const int ox = std::clamp(0, x0, x1), oy = std::clamp(0, y0, y1);
-    stack_.push_back(Node{L, nx, ny, bx, by, f_.dist(ox, oy)});
+    const int sx = bx + dst_.origin - x, sy = by + dst_.origin - y;
+    const int x0 = (nx << L) + sx, x1 = std::min((nx + 1) << L, g_.w) - 1 + sx;
+    const int y0 = (ny << L) + sy, y1 = std::min((ny + 1) << L, g_.h) - 1 + sy;
+    stack_.push_back(Node{L, nx, ny, bx, by, range_dist(f_, dst_, x0, x1, y0, y1)});
   }
 
   const Field& f_;
+  const Field& g_;
+  const Destinations& dst_;
   const MinTree& t_;
   const ConeBakeOptions& o_;
   std::vector<Node> stack_;
@@ -320,6 +417,7 @@ class FastBaker {
 ConeRatios bake_cone_ratios_brute_force(const Texture& depth, const ConeBakeOptions& options) {
   check_options(options);
   const Field f = read_field(depth, options.wrap);
+  const Destinations dst = make_destinations(f, options.bilinear);
   ConeRatios out;
   out.width = f.w;
   out.height = f.h;
@@ -327,7 +425,8 @@ ConeRatios bake_cone_ratios_brute_force(const Texture& depth, const ConeBakeOpti
   out.values.resize(static_cast<size_t>(f.w) * f.h * out.channels);
   for_rows(f.h, options.threads, options.progress, [&](int y) {
     for (int x = 0; x < f.w; ++x)
-      brute_texel(f, options, x, y, &out.values[(static_cast<size_t>(y) * f.w + x) * out.channels]);
+      brute_texel(f, dst, options, x, y,
+                  &out.values[(static_cast<size_t>(y) * f.w + x) * out.channels]);
   });
   return out;
 }
@@ -335,14 +434,15 @@ ConeRatios bake_cone_ratios_brute_force(const Texture& depth, const ConeBakeOpti
 ConeRatios bake_cone_ratios(const Texture& depth, const ConeBakeOptions& options) {
   check_options(options);
   const Field f = read_field(depth, options.wrap);
-  const MinTree tree = build_tree(f);
+  const Destinations dst = make_destinations(f, options.bilinear);
+  const MinTree tree = build_tree(dst.grid);
   ConeRatios out;
   out.width = f.w;
   out.height = f.h;
   out.channels = channels_of(options.kind);
   out.values.resize(static_cast<size_t>(f.w) * f.h * out.channels);
   for_rows(f.h, options.threads, options.progress, [&](int y) {
-    FastBaker baker(f, tree, options);
+    FastBaker baker(f, dst, tree, options);
     for (int x = 0; x < f.w; ++x)
       baker.texel(x, y, &out.values[(static_cast<size_t>(y) * f.w + x) * out.channels]);
   });

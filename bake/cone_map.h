@@ -39,6 +39,19 @@
 //   is never narrower than the conservative one, and exits with r >= max_ratio need not be found
 //   (the march stops at t D / (d_i - t d_j) = max_ratio).
 //
+// Bilinear-safe conservative and quad cones (`bilinear`). The kernels (shaders_cpp/cone.h) step
+//   from a ray point p at the bilinear depth D(p) with the ratio of the texel whose cell (the
+//   texel's square, [x, x + 1) x [y, y + 1) in texel units) holds p. For that never to cross the
+//   bilinear surface (the field the exact reference intersects), r_i must hold for every apex
+//   (p, D(p)) with p in cell i: no bilinear surface point strictly inside. Bound used:
+//     r_i = min(max_ratio, 1 / L_i, min over patches P not touching cell i of
+//               gap(cell i, P) / (A_i - m_P)),
+//   L_i: the steepest gradient (depth per uv) of the 4 patches around texel i (a ray point and a
+//   surface point both in them are joined inside them), A_i: the bilinear maximum over cell i,
+//   m_P: the minimum corner of patch P (the square between four texel centres), gap: the uv
+//   distance between the cell and the patch. Quad channels keep the patches a ray leaving the cell
+//   in that direction can reach. These cones are narrower than texel-point ones near features.
+//
 // Two bakers per kind give the same floats: the brute-force one (all pairs, the test oracle) and
 // the fast one (a min-depth quadtree bounds whole blocks of destinations: a block whose nearest
 // offset D_min and minimum depth m satisfy D_min >= r (d_i - m) cannot lower the current r and is
@@ -59,7 +72,10 @@ struct ConeBakeOptions {
   ConeKind kind = ConeKind::kRelaxed;
   float max_ratio = 1.0f;  // > 0; the chapter clamps at 1 to store ratios in 8 bits
   bool wrap = false;       // tiling map (repeat) vs clamp at the borders
-  int threads = 0;         // <= 0: hardware concurrency (fast baker only)
+  // Conservative and quad kinds only: cones safe for the bilinear surface (see above) instead of
+  // the texel points.
+  bool bilinear = false;
+  int threads = 0;  // <= 0: hardware concurrency (fast baker only)
   // Called on the calling thread with non-decreasing fractions in [0, 1], ending with 1.
   std::function<void(float fraction)> progress;
 };

@@ -85,12 +85,13 @@ void expect_same(const ConeRatios& a, const ConeRatios& b, const std::string& wh
   EXPECT_EQ(bad, 0) << what;
 }
 
-void fast_equals_brute(ConeKind kind) {
+void fast_equals_brute(ConeKind kind, bool bilinear = false) {
   for (const Case& c : cases())
     for (bool wrap : {false, true}) {
       ConeBakeOptions o;
       o.kind = kind;
       o.wrap = wrap;
+      o.bilinear = bilinear;
       o.threads = 2;
       expect_same(bake_cone_ratios(c.depth, o), bake_cone_ratios_brute_force(c.depth, o),
                   c.name + (wrap ? " wrap" : " clamp"));
@@ -105,6 +106,66 @@ TEST(ConeMap, QuadFastEqualsBruteForce) {
 }
 TEST(ConeMap, RelaxedFastEqualsBruteForce) {
   fast_equals_brute(ConeKind::kRelaxed);
+}
+
+TEST(ConeMap, BilinearConservativeFastEqualsBruteForce) {
+  fast_equals_brute(ConeKind::kConservative, true);
+}
+TEST(ConeMap, BilinearQuadFastEqualsBruteForce) {
+  fast_equals_brute(ConeKind::kQuad, true);
+}
+
+// Bilinear depth of the map (GL LINEAR at level 0, clamp or repeat) at texel-space point (px, py).
+double bilinear_depth(const Texture& d, bool wrap, double px, double py) {
+  const int w = d.width(), h = d.height();
+  auto at = [&](int x, int y) {
+    if (wrap) {
+      x = ((x % w) + w) % w;
+      y = ((y % h) + h) % h;
+    } else {
+      x = std::clamp(x, 0, w - 1);
+      y = std::clamp(y, 0, h - 1);
+    }
+    return static_cast<double>(d.fetch_r(0, x, y));
+  };
+  const double x = px - 0.5, y = py - 0.5, fx = std::floor(x), fy = std::floor(y);
+  const int ix = static_cast<int>(fx), iy = static_cast<int>(fy);
+  const double a = x - fx, b = y - fy;
+  const double top = at(ix, iy) + a * (at(ix + 1, iy) - at(ix, iy));
+  const double bot = at(ix, iy + 1) + a * (at(ix + 1, iy + 1) - at(ix, iy + 1));
+  return top + b * (bot - top);
+}
+
+TEST(ConeMap, BilinearConesHoldNoBilinearSurfacePoint) {
+  // Sampled definition check: for apexes (p, D(p)) anywhere in a texel's cell and surface points
+  // (q, D(q)) on a fine grid of the bilinear surface, no q lies strictly inside the cone; the
+  // texel-point cones, by contrast, do hold some (which is why the kernels need these).
+  for (bool wrap : {false, true}) {
+    const Texture d = bumpy_map(24, 20, 51);
+    ConeBakeOptions o;
+    o.kind = ConeKind::kConservative;
+    o.wrap = wrap;
+    o.bilinear = true;
+    const ConeRatios r = bake_cone_ratios(d, o);
+    o.bilinear = false;
+    const ConeRatios point = bake_cone_ratios(d, o);
+    int point_violations = 0;
+    for (int y = 1; y < 20; y += 4)
+      for (int x = 2; x < 24; x += 5)
+        for (double sy : {0.05, 0.5, 0.95})
+          for (double sx : {0.05, 0.5, 0.95}) {
+            const double px = x + sx, py = y + sy, dp = bilinear_depth(d, wrap, px, py);
+            for (double qy = 0.125; qy < 20; qy += 0.25)
+              for (double qx = 0.125; qx < 24; qx += 0.25) {
+                const double dq = bilinear_depth(d, wrap, qx, qy);
+                if (!(dq < dp)) continue;
+                const double D = std::hypot((qx - px) / 24.0, (qy - py) / 20.0);
+                EXPECT_GE(D, r.at(x, y) * (dp - dq) * (1 - 1e-5)) << x << "," << y;
+                point_violations += D < point.at(x, y) * (dp - dq) * (1 - 1e-5);
+              }
+          }
+    EXPECT_GT(point_violations, 0);
+  }
 }
 
 TEST(ConeMap, MaxRatioOtherThanOne) {
