@@ -13,6 +13,9 @@ void register_builtin_plugins(PluginRegistry& r) {
            &kPomPlugin,
            &kReliefPlugin,
            &kExactPlugin,
+           &kConePlugin,
+           &kConeQuadPlugin,
+           &kRelaxedConePlugin,
        }) {
     CHECK(r.add(p).ok());
   }

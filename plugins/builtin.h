@@ -12,5 +12,8 @@ extern const PluginDescriptor kSteepParallaxPlugin;
 extern const PluginDescriptor kPomPlugin;
 extern const PluginDescriptor kReliefPlugin;
 extern const PluginDescriptor kExactPlugin;
+extern const PluginDescriptor kConePlugin;
+extern const PluginDescriptor kConeQuadPlugin;
+extern const PluginDescriptor kRelaxedConePlugin;
 
 }  // namespace relief

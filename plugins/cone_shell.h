@@ -1,0 +1,103 @@
+// What the three cone-stepping plugins (cone, cone_quad, relaxed_cone) share on top of the relief
+// shell (plugins/relief_shell.h): the cone-map slot, the cone source built from it at the depth
+// map's per-quad LOD, and the self-shadow ray traced with the technique's own search. Dummer,
+// "Cone Step Mapping", 2006; Policarpo and Oliveira, "Relaxed Cone Stepping for Relief Mapping",
+// GPU Gems 3, ch. 18, 2007.
+//
+// Texture slot 3 is the cone map. Its name says which kind the plugin reads, and the planner
+// derives a missing one from the depth map (render/derived_maps.h): "cone_conservative",
+// "cone_quad" (four ratios +u, -u, +v, -v) or "cone_relaxed". The map has the depth map's size,
+// so the depth map's LOD per quad is the cone map's too.
+#pragma once
+
+#include "plugins/relief_shell.h"
+#include "shaders_cpp/cone.h"
+
+namespace relief {
+
+inline constexpr int kConeSlot = 3;
+
+inline constexpr TextureSlotSpec kConeConservativeSlotSpec = {
+    "cone_conservative", true,
+    "conservative cone map (Dummer): ratio in channel 0, min-mips; baked from depth if absent"};
+inline constexpr TextureSlotSpec kConeQuadSlotSpec = {
+    "cone_quad", true,
+    "quad-directional cone map: ratios +u, -u, +v, -v in RGBA, min-mips; baked from depth if "
+    "absent"};
+inline constexpr TextureSlotSpec kConeRelaxedSlotSpec = {
+    "cone_relaxed", true,
+    "relaxed cone map (Policarpo & Oliveira): ratio in channel 0, min-mips; baked from depth if "
+    "absent"};
+
+inline constexpr ParamSpec kConeStepsSpec = {"steps",
+                                             ParamType::kInt,
+                                             15.0f,
+                                             1.0f,
+                                             256.0f,
+                                             nullptr,
+                                             "cone steps (GPU Gems 3 ch. 18 uses 15)"};
+inline constexpr ParamSpec kConeShadowStepsSpec = {
+    "shadow_steps",
+    ParamType::kInt,
+    15.0f,
+    1.0f,
+    256.0f,
+    nullptr,
+    "cone steps of the light ray (self_shadow effect)"};
+
+// Depth units an occluder must rise above the shadow ray (as the marched shadow of relief uses).
+inline constexpr float kConeShadowBias = 0.01f;
+
+// The cone source of slot 3 (TextureCone or QuadTextureCone) at the depth map's LODs; false when
+// the material has no cone map (the search then reports the fragment's own uv at depth 0).
+// The nearest-texel depth reader of the relaxed march shares the depth map's LODs.
+inline NearestTextureDepth nearest_depth(const TextureDepth& depth) {
+  NearestTextureDepth n;
+  n.texture = depth.texture;
+  n.sampler = cone_sampler(*depth.sampler);
+  for (int i = 0; i < 8; ++i) n.lod[i] = depth.lod[i];
+  return n;
+}
+
+template <class Cone>
+inline bool make_cone_source(const ShadeContext& ctx, const TextureDepth& depth, Cone& cone) {
+  const MaterialUniforms& m = *ctx.material;
+  cone.texture = m.textures[kConeSlot];
+  if (!cone.texture) return false;
+  cone.sampler = cone_sampler(m.samplers[kConeSlot]);
+  for (int i = 0; i < 8; ++i) cone.lod[i] = depth.lod[i];
+  return true;
+}
+
+// Self-shadow: the light ray searched by `search(entry, dir, t_max, active)` (the plugin's own
+// search with its shadow step count), counted into `o`.
+template <class F, class Search>
+inline F cone_light_visibility(const SearchHit<F>& hit, const V2<F>& dl, const F& lz, mask_t<F> lit,
+                               ShadeOut<F>& o, Search&& search) {
+  const ConeShadow<F> s = light_ray_shadow(hit.uv, hit.depth, dl, lz, kConeShadowBias, lit,
+                                           std::forward<Search>(search));
+  o.shadow_steps += s.steps;
+  o.fetches += s.fetches;
+  return s.visibility;
+}
+
+// The descriptor of a cone plugin: the shell's variants of `Search`, its schema and slots.
+template <class Search, size_t kNumParams, size_t kNumSlots>
+constexpr PluginDescriptor cone_plugin(const char* name, const char* description,
+                                       const ParamSpec (&params)[kNumParams],
+                                       const TextureSlotSpec (&slots)[kNumSlots]) {
+  return {kPluginAbiVersion,
+          name,
+          description,
+          params,
+          static_cast<int>(kNumParams),
+          slots,
+          static_cast<int>(kNumSlots),
+          kEffectSelfShadow | kEffectDepthWrite | kEffectShadowPass,
+          &select_relief_variant<Search>,
+          &relief_depth_output,
+          nullptr,
+          nullptr};
+}
+
+}  // namespace relief
