@@ -5,6 +5,7 @@
 #include <glm/trigonometric.hpp>
 
 #include "plugins/registry.h"
+#include "render/derived_maps.h"
 #include "render/render.h"
 
 namespace relief {
@@ -53,6 +54,15 @@ Result<Plan> make_plan(const Scene& scene, const RenderOptions& opt) {
       const TextureSlotSpec& slot = b.plugin->textures[s];
       auto it = m.textures.find(slot.name);
       if (it == m.textures.end() || !it->second) {
+        if (is_derived_slot(slot.name)) {  // cone maps: baked from depth, cached
+          Result<DerivedMap> d = derive_map(m, slot.name);
+          if (!d.ok()) return d.status().with_context("material '" + m.name + "'");
+          b.uniforms.textures[s] = d->texture.get();
+          b.uniforms.samplers[s] = m.sampler;
+          b.keep_alive.push_back(d->texture);
+          b.reasons.push_back(d->note);
+          continue;
+        }
         if (slot.required)
           return Status::error("material '" + m.name + "': technique " + b.plugin->name +
                                " needs a '" + slot.name + "' texture");

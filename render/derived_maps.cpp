@@ -1,0 +1,235 @@
+// Derived maps baked from a material's depth map on first use, cached in memory and on disk
+// (render/derived_maps.h). The cone maps are those of bake/cone_map.h: Dummer 2006 (conservative)
+// and Policarpo & Oliveira, GPU Gems 3 ch. 18, 2007 (quad-directional, relaxed).
+#include "render/derived_maps.h"
+
+#include <unistd.h>
+
+#include <chrono>
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <vector>
+
+#include "bake/cone_map.h"
+
+namespace relief {
+namespace {
+
+namespace fs = std::filesystem;
+
+// Bumped whenever a baker's answer changes, so stale cache files are never read.
+constexpr uint32_t kBakeVersion = 2;
+constexpr char kMagic[8] = {'R', 'L', 'F', 'C', 'O', 'N', 'E', '1'};
+
+struct ConeSlot {
+  const char* name;
+  ConeKind kind;
+};
+constexpr ConeSlot kConeSlots[] = {{"cone_conservative", ConeKind::kConservative},
+                                   {"cone_quad", ConeKind::kQuad},
+                                   {"cone_relaxed", ConeKind::kRelaxed}};
+
+const ConeSlot* find_cone_slot(const std::string& slot) {
+  for (const ConeSlot& c : kConeSlots)
+    if (slot == c.name) return &c;
+  return nullptr;
+}
+
+// FNV-1a, 64 bits.
+struct Hasher {
+  uint64_t h = 1469598103934665603ull;
+  void bytes(const void* p, size_t n) {
+    const auto* b = static_cast<const uint8_t*>(p);
+    for (size_t i = 0; i < n; ++i) h = (h ^ b[i]) * 1099511628211ull;
+  }
+  template <class T>
+  void value(const T& v) {
+    bytes(&v, sizeof v);
+  }
+};
+
+struct Header {
+  char magic[8];
+  uint32_t version, kind, wrap, width, height, channels;
+  float max_ratio;
+  uint32_t pad = 0;
+  uint64_t key, payload_hash;
+};
+
+uint64_t payload_hash(const std::vector<float>& v) {
+  Hasher h;
+  h.bytes(v.data(), v.size() * sizeof(float));
+  return h.h;
+}
+
+void warn(const std::string& what) {
+  std::fprintf(stderr, "relief: warning: %s\n", what.c_str());
+}
+
+// Reads a cache file; false (with `why`) when it is missing or does not hold exactly `want`.
+bool read_cache(const fs::path& path, const Header& want, ConeRatios& out, std::string& why) {
+  std::ifstream f(path, std::ios::binary);
+  if (!f) {
+    why.clear();  // simply not there yet
+    return false;
+  }
+  Header h;
+  f.read(reinterpret_cast<char*>(&h), sizeof h);
+  const size_t n = static_cast<size_t>(want.width) * want.height * want.channels;
+  out.values.resize(n);
+  f.read(reinterpret_cast<char*>(out.values.data()), static_cast<std::streamsize>(n * 4));
+  const bool complete = static_cast<bool>(f) && f.peek() == std::char_traits<char>::eof();
+  if (!complete || std::memcmp(h.magic, want.magic, 8) != 0 || h.version != want.version ||
+      h.kind != want.kind || h.wrap != want.wrap || h.width != want.width ||
+      h.height != want.height || h.channels != want.channels || h.max_ratio != want.max_ratio ||
+      h.key != want.key || h.payload_hash != payload_hash(out.values)) {
+    why = path.string() + ": corrupt or stale cone-map cache file, ignored (rebaking)";
+    return false;
+  }
+  for (float v : out.values)
+    if (!(v >= 0.0f && v <= want.max_ratio)) {
+      why = path.string() + ": cone-map cache file holds out-of-range ratios, ignored (rebaking)";
+      return false;
+    }
+  out.width = static_cast<int>(want.width);
+  out.height = static_cast<int>(want.height);
+  out.channels = static_cast<int>(want.channels);
+  return true;
+}
+
+// Writes a cache file through a temporary and a rename; a warning on failure.
+void write_cache(const fs::path& path, Header h, const ConeRatios& r) {
+  std::error_code ec;
+  fs::create_directories(path.parent_path(), ec);
+  const fs::path tmp = path.string() + ".tmp" + std::to_string(::getpid());
+  h.payload_hash = payload_hash(r.values);
+  bool ok = false;
+  {
+    std::ofstream f(tmp, std::ios::binary | std::ios::trunc);
+    f.write(reinterpret_cast<const char*>(&h), sizeof h);
+    f.write(reinterpret_cast<const char*>(r.values.data()),
+            static_cast<std::streamsize>(r.values.size() * 4));
+    f.close();
+    ok = static_cast<bool>(f);
+  }
+  if (!ok) {
+    fs::remove(tmp, ec);
+    warn(path.parent_path().string() + ": cannot write the cone-map cache (continuing without)");
+    return;
+  }
+  fs::rename(tmp, path, ec);
+  if (ec) {
+    fs::remove(tmp, ec);
+    warn(path.string() + ": cannot write the cone-map cache (continuing without)");
+  }
+}
+
+std::mutex g_mutex;
+std::map<uint64_t, TexturePtr>& memory_cache() {
+  static auto* m = new std::map<uint64_t, TexturePtr>();
+  return *m;
+}
+
+bool periodic(Wrap w) {
+  return w != Wrap::kClamp;
+}
+
+}  // namespace
+
+bool is_derived_slot(const std::string& slot) {
+  return find_cone_slot(slot) != nullptr;
+}
+
+std::string derived_map_cache_dir() {
+  if (const char* e = std::getenv("RELIEF_CACHE_DIR"); e && *e)
+    return std::strcmp(e, "none") == 0 ? "" : std::string(e);
+  if (const char* e = std::getenv("XDG_CACHE_HOME"); e && *e) return std::string(e) + "/relief";
+  if (const char* e = std::getenv("HOME"); e && *e) return std::string(e) + "/.cache/relief";
+  return "";
+}
+
+void clear_derived_map_memory_cache() {
+  std::lock_guard<std::mutex> lock(g_mutex);
+  memory_cache().clear();
+}
+
+Result<DerivedMap> derive_map(const Material& m, const std::string& slot) {
+  const ConeSlot* cs = find_cone_slot(slot);
+  CHECK(cs != nullptr);
+  auto it = m.textures.find("depth");
+  if (it == m.textures.end() || !it->second || it->second->empty())
+    return Status::error("'" + slot + "' map: no 'depth' texture to bake it from");
+  const Texture& depth = *it->second;
+  ConeBakeOptions o;
+  o.kind = cs->kind;
+  o.max_ratio = 1.0f;
+  o.wrap = periodic(m.sampler.wrap_u) && periodic(m.sampler.wrap_v);
+  o.bilinear = o.kind != ConeKind::kRelaxed;  // what the kernels need (shaders_cpp/cone.h)
+  const int w = depth.width(0), h = depth.height(0);
+
+  Header want{};
+  std::memcpy(want.magic, kMagic, 8);
+  want.version = kBakeVersion;
+  want.kind = static_cast<uint32_t>(o.kind);
+  want.wrap = o.wrap ? 1 : 0;
+  want.width = static_cast<uint32_t>(w);
+  want.height = static_cast<uint32_t>(h);
+  want.channels = o.kind == ConeKind::kQuad ? 4 : 1;
+  want.max_ratio = o.max_ratio;
+  Hasher key;
+  key.bytes(kMagic, 8);
+  key.value(want.version);
+  key.value(want.kind);
+  key.value(want.wrap);
+  key.value(want.width);
+  key.value(want.height);
+  key.value(want.max_ratio);
+  key.value(o.bilinear);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) key.value(depth.fetch_r(0, x, y));
+  want.key = key.h;
+
+  const std::string what = std::string(cone_kind_name(o.kind)) + " cone map " + std::to_string(w) +
+                           "x" + std::to_string(h) + (o.wrap ? " (wrap)" : " (clamp)");
+  // One bake at a time: a second material with the same depth waits and then hits the cache.
+  std::lock_guard<std::mutex> lock(g_mutex);
+  if (auto hit = memory_cache().find(want.key); hit != memory_cache().end())
+    return DerivedMap{hit->second, slot + ": " + what + ", derived from depth (memory cache)"};
+
+  const std::string dir = derived_map_cache_dir();
+  char name[64];
+  std::snprintf(name, sizeof name, "cone-%s-%016llx.bin", cone_kind_name(o.kind),
+                static_cast<unsigned long long>(want.key));
+  const fs::path file = dir.empty() ? fs::path() : fs::path(dir) / name;
+  ConeRatios ratios;
+  std::string note;
+  std::string why;
+  if (!dir.empty() && read_cache(file, want, ratios, why)) {
+    note = slot + ": " + what + ", derived from depth (disk cache " + file.string() + ")";
+  } else {
+    if (!why.empty()) warn(why);
+    const auto t0 = std::chrono::steady_clock::now();
+    ratios = bake_cone_ratios(depth, o);
+    const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    char secs[32];
+    std::snprintf(secs, sizeof secs, "%.2f", s);
+    note = slot + ": " + what + ", baked from depth in " + secs + " s";
+    if (!dir.empty()) {
+      write_cache(file, want, ratios);
+      note += " (cached in " + dir + ")";
+    }
+  }
+  auto tex = std::make_shared<const Texture>(cone_ratios_to_texture(ratios, true));
+  memory_cache()[want.key] = tex;
+  return DerivedMap{tex, note};
+}
+
+}  // namespace relief

@@ -1,0 +1,45 @@
+// Derived maps: the maps a technique needs that the scene does not supply, made from the
+// material's depth map during preparation and cached (DESIGN.md, "One frame, as data", step 2:
+// "Prepare (cached): ... the maps each technique needs (cone map, normal map)").
+//
+// A plugin asks for one by naming a texture slot after it (docs/plugins.md):
+//   "cone_conservative", "cone_quad", "cone_relaxed": bake/cone_map.h's conservative and
+//   quad-directional cone maps safe for the bilinear surface (`bilinear`, what the cone kernels
+//   need never to pass the first hit) and relaxed cone maps, of the material's "depth" texture
+//   (level 0, ratios clamped at 1, min-mips; wrap when both sampler axes repeat or mirror --
+//   mirror is baked as repeat -- and clamp otherwise).
+// A material that supplies a texture under that name is used as it is. Otherwise the map comes
+// from, in order: the process's memory cache; the disk cache; a bake (all cores), which is then
+// stored in both. The caches are keyed by a 64-bit hash of the depth texels, their size, the kind
+// and the bake parameters, and a version of the baker. The disk cache lives in
+// $RELIEF_CACHE_DIR (the value "none" turns it off), else $XDG_CACHE_HOME/relief, else
+// $HOME/.cache/relief. A missing, corrupt or unwritable cache file is a one-line warning on
+// stderr and a rebake, never an error.
+#pragma once
+
+#include <string>
+
+#include "rasterizer/status.h"
+#include "rasterizer/texture.h"
+#include "scene/scene.h"
+
+namespace relief {
+
+struct DerivedMap {
+  TexturePtr texture;
+  std::string note;  // one line for --explain: where the map came from and what it cost
+};
+
+// Whether `slot` names a map derive_map() can make.
+bool is_derived_slot(const std::string& slot);
+
+// The derived map for `slot` of `material`. Error: the material has no usable "depth" texture.
+Result<DerivedMap> derive_map(const Material& material, const std::string& slot);
+
+// The disk-cache folder as the environment sets it ("" when there is none).
+std::string derived_map_cache_dir();
+
+// Forgets the memory cache (tests).
+void clear_derived_map_memory_cache();
+
+}  // namespace relief
