@@ -1,6 +1,6 @@
 // `relief bake`: normal maps and cone maps from a depth (or height) image.
 //   relief bake DEPTH_IMAGE -o OUT (--normal | --cone conservative|quad|relaxed) [--height]
-//               [--depth-scale s] [--max-ratio R] [--wrap] [--threads N]
+//               [--depth-scale s] [--max-ratio R] [--wrap] [--bilinear] [--threads N]
 // Output by extension through scene/image_io.h:
 //   --normal: RGB = n * 0.5 + 0.5 (tangent space, bake/normal_map.h), stored linear: .exr float,
 //             .png / .tif with the bytes of the RGBA8 texture (8-bit PNG readers that keep bytes as
@@ -39,6 +39,7 @@ struct BakeArgs {
   float depth_scale = 0.1f;
   float max_ratio = 1.0f;
   bool wrap = false;
+  bool bilinear = false;
   int threads = 0;
 };
 
@@ -87,6 +88,8 @@ int run_bake(const BakeArgs& a) {
   if (!(a.max_ratio > 0.0f) || !std::isfinite(a.max_ratio) || a.max_ratio > 65504.0f)
     return fail("bake: --max-ratio must be positive, finite and at most 65504", 2);
   if (a.threads < 0) return fail("bake: --threads must be >= 0 (0: all cores)", 2);
+  if (a.bilinear && a.cone != "conservative" && a.cone != "quad")
+    return fail("bake: --bilinear applies to --cone conservative or quad", 2);
   const std::string ext = lower_ext(a.output);
   if (ext != ".png" && ext != ".exr" && ext != ".tif" && ext != ".tiff")
     return fail(a.output + ": unsupported output extension '" + ext +
@@ -96,6 +99,20 @@ int run_bake(const BakeArgs& a) {
     return fail("bake: --max-ratio above 1 needs a float output (.exr); integer images hold [0, 1]",
                 2);
 
+  // A depth map has one channel: grey stored as RGB is fine, colour (R, G, B differ) is not.
+  {
+    Result<Texture> full = load_texture(a.input);
+    if (!full.ok()) return fail(full.status().message(), full.status().exit_code());
+    const Texture& t = full.value();
+    if (format_channels(t.format()) >= 3)
+      for (int y = 0; y < t.height(0); ++y)
+        for (int x = 0; x < t.width(0); ++x) {
+          const glm::vec4 c = t.fetch(0, x, y);
+          if (c.x != c.y || c.x != c.z)
+            return fail(
+                a.input + ": a colour image (R, G and B differ); a depth map has one channel", 1);
+        }
+  }
   TextureLoadOptions lo;
   lo.first_channel_only = true;
   lo.height_to_depth = a.height;
@@ -141,6 +158,7 @@ int run_bake(const BakeArgs& a) {
       o.kind = ConeKind::kRelaxed;
     o.max_ratio = a.max_ratio;
     o.wrap = a.wrap;
+    o.bilinear = a.bilinear;
     o.threads = a.threads;
     what = std::string(cone_kind_name(o.kind)) + " cone map";
     ProgressBar bar("baking " + what);
@@ -191,6 +209,8 @@ void register_bake(CLI::App& app, Action& action) {
                   "Relief depth in uv units, for --normal (default 0.1)");
   sub->add_option("--max-ratio", args->max_ratio, "Clamp cone ratios (default 1)");
   sub->add_flag("--wrap", args->wrap, "The map tiles (wrap at the borders); default clamp");
+  sub->add_flag("--bilinear", args->bilinear,
+                "Conservative/quad cones safe for the bilinear surface (the cone plugins' maps)");
   sub->add_option("--threads", args->threads, "Worker threads (0: all cores)");
   sub->callback([&action, args] { action = [args] { return run_bake(*args); }; });
 }

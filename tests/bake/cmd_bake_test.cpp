@@ -88,6 +88,7 @@ TEST_F(CmdBake, UsageErrorsLeaveNothingBehind) {
         depth_ + out + " --normal --depth-scale -1",         // bad scale
         depth_ + out + " --cone relaxed --max-ratio 0",      // bad ratio
         depth_ + out + " --cone relaxed --threads -3",       // bad threads
+        depth_ + out + " --cone relaxed --bilinear",         // bilinear is for conservative
         depth_ + " -o " + path("out.bmp") + " --cone quad",  // unknown extension
         depth_ + " -o " + path("out.png") + " --cone relaxed --max-ratio 2",  // PNG holds [0,1]
         std::string("--cone relaxed") + out}) {                               // no input
@@ -95,6 +96,30 @@ TEST_F(CmdBake, UsageErrorsLeaveNothingBehind) {
     expect_one_line_error();
     EXPECT_TRUE(only_inputs_left()) << args;
   }
+}
+
+TEST_F(CmdBake, BadImagesAreOneLineInputErrors) {
+  // a colour image where one channel is expected
+  Image colour(8, 8);
+  for (int y = 0; y < 8; ++y)
+    for (int x = 0; x < 8; ++x) colour.at(x, y) = glm::vec4(x / 8.0f, y / 8.0f, 0.5f, 1.0f);
+  ASSERT_TRUE(write_image(path("colour.png"), colour).ok());
+  // an empty file (no image, 0 x 0) and one wider than the 16384 limit
+  { std::ofstream(path("empty.png")); }
+  ASSERT_TRUE(write_plane(path("huge.exr"), Plane(16385, 1)).ok());
+  for (const char* in : {"colour.png", "empty.png", "huge.exr"}) {
+    EXPECT_EQ(run(path(in) + " -o " + path("out.exr") + " --cone relaxed"), 1) << in;
+    expect_one_line_error();
+    EXPECT_FALSE(fs::exists(path("out.exr"))) << in;
+  }
+  EXPECT_NE(stderr_.find("limit"), std::string::npos) << stderr_;
+  // grey stored as RGB is a depth map
+  Image grey(8, 8);
+  for (int y = 0; y < 8; ++y)
+    for (int x = 0; x < 8; ++x)
+      grey.at(x, y) = glm::vec4((x + y) / 16.0f, (x + y) / 16.0f, (x + y) / 16.0f, 1.0f);
+  ASSERT_TRUE(write_image(path("grey.png"), grey).ok());
+  EXPECT_EQ(run(path("grey.png") + " -o " + path("out.exr") + " --cone relaxed"), 0) << stderr_;
 }
 
 TEST_F(CmdBake, UnwritableOutputIsInputError) {

@@ -9,6 +9,8 @@
 
 #include <gtest/gtest.h>
 
+#include "scene/builtin.h"
+
 namespace relief {
 namespace {
 
@@ -64,6 +66,8 @@ std::vector<Case> cases() {
   c.push_back({"walls32", walls_map(32, 32)});
   c.push_back({"walls64", walls_map(64, 64)});
   c.push_back({"spike32", spike_map(32, 32, 13, 20)});
+  c.push_back({"pattern32", make_pattern_depth(32)});
+  c.push_back({"pattern64", make_pattern_depth(64)});
   c.push_back({"flat32", map_from(32, 32, [](int, int) { return 0.0f; })});
   c.push_back({"deep32", map_from(32, 32, [](int, int) { return 1.0f; })});
   c.push_back({"nonsquare48x20", bumpy_map(48, 20, 4)});
