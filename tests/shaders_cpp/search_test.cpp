@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "field_fixture.h"
+#include "miss_analysis.h"
 #include "shaders_cpp/exact.h"
 #include "shaders_cpp/ray.h"
 
@@ -45,14 +46,16 @@ TEST(Search, LinearStopsAtFirstInsideSample) {
 
 TEST(Search, SurfaceAtTopHitsAtZeroWithOneFetch) {
   FloatField f = constant_field(0.0f);
-  SearchHit<float> h = relief_search(f, V2<float>(0.5f, 0.5f), V2<float>(0.3f, 0.1f), 32.0f, 8, true);
+  SearchHit<float> h =
+      relief_search(f, V2<float>(0.5f, 0.5f), V2<float>(0.3f, 0.1f), 32.0f, 8, true);
   EXPECT_EQ(h.depth, 0.0f);
   EXPECT_EQ(h.fetches, 1.0f);
 }
 
 TEST(Search, FloorAtBottomIsFoundAtDepthOne) {
   FloatField f = constant_field(1.0f);
-  SearchHit<float> h = relief_search(f, V2<float>(0.5f, 0.5f), V2<float>(0.3f, 0.1f), 16.0f, 8, true);
+  SearchHit<float> h =
+      relief_search(f, V2<float>(0.5f, 0.5f), V2<float>(0.3f, 0.1f), 16.0f, 8, true);
   EXPECT_EQ(h.depth, 1.0f);
   EXPECT_EQ(h.steps, 17.0f + 8.0f);
 }
@@ -60,7 +63,8 @@ TEST(Search, FloorAtBottomIsFoundAtDepthOne) {
 TEST(Search, BinaryRefinesBetweenSamples) {
   // D = 0.3 everywhere: linear with 4 steps brackets [0.25, 0.5]; 10 halvings get within 2.5e-4
   FloatField f = constant_field(0.3f);
-  SearchHit<float> h = relief_search(f, V2<float>(0.5f, 0.5f), V2<float>(0.2f, 0.0f), 4.0f, 10, true);
+  SearchHit<float> h =
+      relief_search(f, V2<float>(0.5f, 0.5f), V2<float>(0.2f, 0.0f), 4.0f, 10, true);
   EXPECT_GE(h.depth, 0.3f);
   EXPECT_LT(h.depth, 0.3f + 0.25f / 1024.0f + 1e-6f);
 }
@@ -71,7 +75,8 @@ TEST(Search, SecantIsExactOnPlanes) {
   f.w = f.h = 16;
   f.wrap_u = f.wrap_v = Wrap::kClamp;
   for (int j = 0; j < 16; ++j)
-    for (int i = 0; i < 16; ++i) f.d.push_back(0.1f + 0.5f * (i + 0.5f) / 16 + 0.3f * (j + 0.5f) / 16);
+    for (int i = 0; i < 16; ++i)
+      f.d.push_back(0.1f + 0.5f * (i + 0.5f) / 16 + 0.3f * (j + 0.5f) / 16);
   HeightField hf = f.exact();
   std::mt19937 rng(3);
   std::uniform_real_distribution<float> start(0.3f, 0.7f), dir(-0.2f, 0.2f);
@@ -99,7 +104,8 @@ TEST(Search, ParallaxOffsets) {
 
 TEST(Search, SteepParallaxTakesPlanes) {
   FloatField f = constant_field(0.55f);
-  SearchHit<float> h = steep_parallax_search(f, V2<float>(0.1f, 0.1f), V2<float>(0.2f, 0.2f), 8.0f, true);
+  SearchHit<float> h =
+      steep_parallax_search(f, V2<float>(0.1f, 0.1f), V2<float>(0.2f, 0.2f), 8.0f, true);
   EXPECT_EQ(h.depth, 0.625f);  // first plane below 0.55
   EXPECT_EQ(h.steps, 6.0f);
 }
@@ -154,9 +160,8 @@ std::vector<double> relief_errors(const FloatField& f, uint32_t seed) {
 void expect_non_increasing(const std::vector<double>& m, const char* name) {
   const int steps[] = {8, 16, 32, 64, 128};
   for (size_t i = 0; i < m.size(); ++i) {
-    ::testing::Test::RecordProperty(std::string(name) + "_mean_texel_error_" +
-                                        std::to_string(steps[i]),
-                                    std::to_string(m[i]));
+    ::testing::Test::RecordProperty(
+        std::string(name) + "_mean_texel_error_" + std::to_string(steps[i]), std::to_string(m[i]));
     if (i > 0) EXPECT_LE(m[i], m[i - 1]) << name << " n=" << steps[i];
   }
 }
@@ -175,8 +180,46 @@ TEST(Search, ReliefConvergesToExactOnThinWalls) {
   expect_non_increasing(m, "walls");
 }
 
-// Fails today (measured 0.064 texel at 64 + 8): kept disabled as the record of the target on the
-// hardest field; run with --gtest_also_run_disabled_tests.
+// Why the target fails on one-texel walls: every ray relief 64 + 8 gets more than 0.05 texel
+// wrong is one whose exact first crossing holds none of the linear samples t_i = i / 64 (the ray
+// grazes a wall tip or a pillar top, inside for less than a step), so no refinement after the
+// linear search could find it; on all other rays the mean error is far inside the target.
+// Measured: 21 of 2000 rays stepped over (inside spans 0 to 0.17 texel against steps of 0.05 to
+// 0.33 texel) carry 0.0635 of the 0.0637 mean; the other rays average 0.00012 texel.
+TEST(Search, ReliefMissesOnThinWallsAreSteppedOverCrossings) {
+  const FloatField f = testing::thin_walls(64, 11, 21);
+  const HeightField hf = f.exact();
+  std::mt19937 rng(22);  // the rays of relief_errors
+  int missed = 0, seen = 0;
+  double sum_missed = 0.0, sum_seen = 0.0;
+  for (int k = 0; k < 2000; ++k) {
+    const testing::RandomRay r = testing::random_ray(rng, 75.0f, 0.02f, 0.1f);
+    const ExactHit e = hf.intersect(r.u, r.v, r.dsx, r.dsy);
+    const SearchHit<float> h =
+        relief_search(f, V2<float>(r.u, r.v), V2<float>(r.dsx, r.dsy), 64.0f, 8, true);
+    const double err = std::hypot((h.uv.x - e.u) * f.w, (h.uv.y - e.v) * f.h);
+    if (err <= 0.05) {
+      sum_seen += err;
+      ++seen;
+      continue;
+    }
+    ++missed;
+    sum_missed += err;
+    const testing::InsideSpan span = testing::first_inside_span(hf, r.u, r.v, r.dsx, r.dsy, e.t);
+    EXPECT_FALSE(testing::span_holds_a_sample(span, 64))
+        << "ray " << k << ": a linear sample was inside the first crossing, error " << err;
+  }
+  RecordProperty("stepped_over_rays", missed);
+  RecordProperty("stepped_over_share_of_mean", std::to_string(sum_missed / 2000));
+  RecordProperty("mean_without_stepped_over", std::to_string(sum_seen / seen));
+  EXPECT_GT(missed, 0);  // the field is hard enough to show it
+  EXPECT_LT(sum_seen / seen, 0.05);
+}
+
+// Fails (0.064 texel mean at 64 + 8, 0.029 at 128 + 8): the misses are all stepped-over crossings
+// (ReliefMissesOnThinWallsAreSteppedOverCrossings), which a linear search cannot avoid with a
+// fixed step and refinement cannot recover; the cone family is the remedy. Kept disabled as the
+// record of the target on the hardest field; run with --gtest_also_run_disabled_tests.
 TEST(Search, DISABLED_ReliefWithinTargetOnThinWalls) {
   std::vector<double> m = relief_errors(testing::thin_walls(64, 11, 21), 22);
   EXPECT_LT(m[3], 0.05);
