@@ -1,8 +1,10 @@
-// The relief technique plugins (parallax, steep_parallax, pom, relief, exact) shade one packet of
-// a flat, relief-mapped quad seen at an angle: finite output, counters, AOVs, the scalar and 8-lane
-// paths bit-identical, depth correction only ever farther, and relief close to the exact plugin.
+// The relief technique plugins (every registered plugin with a required `depth` slot: parallax,
+// steep_parallax, pom, relief, exact, and those registered later) shade one packet of a flat,
+// relief-mapped quad seen at an angle: finite output, counters, AOVs, the scalar and 8-lane paths
+// bit-identical, depth correction only ever farther, and relief close to the exact plugin.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <memory>
@@ -11,6 +13,7 @@
 #include <glm/gtc/matrix_transform.hpp>
 
 #include "plugins/plugin.h"
+#include "plugins/registry.h"
 
 namespace relief {
 
@@ -36,6 +39,12 @@ Texture smooth_depth() {
   return t;
 }
 
+int depth_slot(const PluginDescriptor& p) {
+  for (int s = 0; s < p.num_textures; ++s)
+    if (std::strcmp(p.textures[s].name, "depth") == 0) return s;
+  return -1;
+}
+
 // Plane z = 0, N = +z, T = +x, B = +y, uv = world (x, y); a 8 x 8 pixel patch of fragments spaced
 // 0.004 apart around (0.4, 0.6), seen from an eye at an angle.
 struct Scene {
@@ -58,8 +67,9 @@ struct Scene {
     frame.lights[0].type = LightType::kDirectional;
     frame.lights[0].direction = glm::normalize(glm::vec3(0.6f, 0.2f, -0.5f));
     for (int i = 0; i < p.num_params; ++i) material.params[i] = p.params[i].default_value;
-    material.textures[2] = &depth;
-    material.samplers[2].filter = Filter::kTrilinear;
+    const int slot = depth_slot(p);
+    material.textures[slot] = &depth;
+    material.samplers[slot].filter = Filter::kTrilinear;
     packet.num_quads = kPacketQuads;
     packet.num_varyings = varying::kCount;
     packet.front_facing = true;
@@ -97,15 +107,32 @@ struct Scene {
   }
 };
 
-const PluginDescriptor* const kAll[] = {&kParallaxPlugin, &kSteepParallaxPlugin, &kPomPlugin,
-                                        &kReliefPlugin, &kExactPlugin};
+// The registered plugins whose one required texture is `depth` (plugins that need more derived
+// maps are covered on rendered scenes by tests/render/techniques_render_test.cpp).
+std::vector<const PluginDescriptor*> relief_plugins() {
+  std::vector<const PluginDescriptor*> out;
+  for (const PluginDescriptor* p : PluginRegistry::global().all()) {
+    int required = 0;
+    for (int s = 0; s < p->num_textures; ++s) required += p->textures[s].required;
+    const int d = depth_slot(*p);
+    if (d >= 0 && p->textures[d].required && required == 1) out.push_back(p);
+  }
+  return out;
+}
+
+TEST(Techniques, RegistryHoldsTheReliefFamily) {
+  std::vector<const PluginDescriptor*> all = relief_plugins();
+  for (const PluginDescriptor* p :
+       {&kParallaxPlugin, &kSteepParallaxPlugin, &kPomPlugin, &kReliefPlugin, &kExactPlugin})
+    EXPECT_NE(std::find(all.begin(), all.end(), p), all.end()) << p->name;
+}
 
 TEST(Techniques, EveryVariantShadesFiniteAndLanePathsAgree) {
-  for (const PluginDescriptor* p : kAll) {
+  for (const PluginDescriptor* p : relief_plugins()) {
     Scene s(*p);
-    for (EffectMask e : {EffectMask(0), EffectMask(kEffectSelfShadow),
-                         EffectMask(kEffectDepthWrite | kEffectSelfShadow),
-                         EffectMask(kEffectShadowPass)}) {
+    for (EffectMask e :
+         {EffectMask(0), EffectMask(kEffectSelfShadow),
+          EffectMask(kEffectDepthWrite | kEffectSelfShadow), EffectMask(kEffectShadowPass)}) {
       ASSERT_EQ(e & ~p->supported_effects, 0u) << p->name;
       WorkCounters w8, w1;
       auto o8 = s.shade(*p, e, false, w8);
@@ -165,7 +192,7 @@ TEST(Techniques, ReliefMatchesExactPlugin) {
 }
 
 TEST(Techniques, SchemasAndEffects) {
-  for (const PluginDescriptor* p : kAll) {
+  for (const PluginDescriptor* p : relief_plugins()) {
     EXPECT_EQ(p->abi_version, kPluginAbiVersion);
     EXPECT_NE(p->supported_effects & kEffectSelfShadow, 0u) << p->name;
     EXPECT_EQ(p->depth_output(kEffectDepthWrite), DepthOutput::kFarther) << p->name;
