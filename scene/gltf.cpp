@@ -550,9 +550,9 @@ class Reader {
       RELIEF_RETURN_IF_ERROR(
           check_keys(e, ep,
                      {"technique", "depth_texture", "depth_is_height", "normal_from_depth",
-                      "cone_texture", "depth_scale", "steps", "binary_steps", "self_shadow",
-                      "depth_write", "silhouette", "casts_shadow", "receives_shadow", "specular",
-                      "shininess", "max_anisotropy", "params"}));
+                      "cone_texture", "cone_kind", "depth_scale", "steps", "binary_steps",
+                      "self_shadow", "depth_write", "silhouette", "casts_shadow", "receives_shadow",
+                      "specular", "shininess", "max_anisotropy", "params"}));
       mat.technique = "relief";
       if (e.contains("technique")) {
         if (!e["technique"].is_string() || e["technique"].get<std::string>().empty())
@@ -588,7 +588,23 @@ class Reader {
       if (e.contains("cone_texture")) {
         Result<TexRef> r = tex_ref_from_json(e["cone_texture"], ep + "/cone_texture");
         if (!r.ok()) return r.status();
-        slots.push_back({"cone", *r, TexUse::kCone});
+        // The slot is cone_<kind>: cone_kind, else the kind the technique reads.
+        std::string kind;
+        if (e.contains("cone_kind")) {
+          const json& k = e["cone_kind"];
+          if (!k.is_string() || (k != "conservative" && k != "quad" && k != "relaxed"))
+            return fail(ep + "/cone_kind",
+                        "expected conservative, quad or relaxed, got " + k.dump());
+          kind = k.get<std::string>();
+        } else if (const PluginDescriptor* p = PluginRegistry::global().find(mat.technique)) {
+          for (int i = 0; i < p->num_textures && kind.empty(); ++i)
+            if (std::string(p->textures[i].name).rfind("cone_", 0) == 0)
+              kind = p->textures[i].name + 5;
+        }
+        if (kind.empty())
+          return fail(ep + "/cone_texture",
+                      "technique " + mat.technique + " reads no cone map: give cone_kind");
+        slots.push_back({"cone_" + kind, *r, TexUse::kCone});
       }
       // Plugin parameters: the three common ones at the top level, any other in "params".
       int steps = 0, binary_steps = 0;
@@ -678,8 +694,10 @@ class Reader {
     const PluginDescriptor* plugin = PluginRegistry::global().find(mat.technique);
     for (int s = 0; plugin && s < plugin->num_textures; ++s) {
       const TextureSlotSpec& slot = plugin->textures[s];
-      if (!slot.required || mat.textures.count(slot.name)) continue;
       const std::string name = slot.name;
+      // Slots a file can fill and nothing derives (cone maps are baked by the renderer).
+      if (name != "base_color" && name != "normal" && name != "depth") continue;
+      if (!slot.required || mat.textures.count(slot.name)) continue;
       const std::string where = name == "base_color" ? "pbrMetallicRoughness/baseColorTexture"
                                 : name == "normal"   ? "normalTexture"
                                                      : name + "_texture";
@@ -1502,7 +1520,8 @@ class Writer {
       const Material& m = s_.materials[i];
       const std::string label = m.name.empty() ? "material" + std::to_string(i) : m.name;
       for (const auto& [slot, tex] : m.textures)
-        if (slot != "base_color" && slot != "normal" && slot != "depth" && slot != "cone")
+        if (slot != "base_color" && slot != "normal" && slot != "depth" &&
+            slot.rfind("cone_", 0) != 0)
           return fail("material '" + label + "': texture slot '" + slot + "' has no glTF form");
       ojson gm = {{"name", m.name}};
       ojson pbr = {{"baseColorFactor", vec_json(&m.base_color[0], 4)}, {"metallicFactor", 0.0}};
@@ -1531,10 +1550,14 @@ class Writer {
         if (!ti.ok()) return ti.status();
         gm["normalTexture"] = *ti;
       }
-      if (auto it = m.textures.find("cone"); it != m.textures.end()) {
-        Result<ojson> ti = texture_info(m, it->second, label + "_cone");
+      for (const auto& [slot, tex] : m.textures) {
+        if (slot.rfind("cone_", 0) != 0) continue;
+        if (e.contains("cone_texture"))
+          return fail("material '" + label + "': more than one cone map has no glTF form");
+        Result<ojson> ti = texture_info(m, tex, label + "_" + slot);
         if (!ti.ok()) return ti.status();
         e["cone_texture"] = *ti;
+        e["cone_kind"] = slot.substr(5);
       }
       ojson params = ojson::object();
       for (const auto& [k, v] : m.params) {

@@ -553,6 +553,35 @@ void expect_error(const std::string& file, const std::string& pointer, const std
   EXPECT_EQ(r.status().exit_code(), 1);
 }
 
+TEST_F(Gltf, ConeMapsGoToTheTechniquesConeSlot) {
+  auto load = [&](const json& e, const std::string& name) {
+    Doc d = quad_doc(dir_);
+    d.j["materials"][0]["extensions"]["RELIEF_relief_mapping"] = e;
+    return load_gltf(d.write(dir_, name));
+  };
+  const json tex = {{"index", 0}};
+  // No cone map in the file: the renderer bakes it from the depth map, the load succeeds.
+  Result<Scene> baked = load({{"technique", "cone"}, {"depth_texture", tex}}, "baked");
+  ASSERT_TRUE(baked.ok()) << baked.status().message();
+  EXPECT_FALSE(baked->materials[0].textures.count("cone_conservative"));
+  Result<Scene> own =
+      load({{"technique", "cone"}, {"depth_texture", tex}, {"cone_texture", tex}}, "own");
+  ASSERT_TRUE(own.ok()) << own.status().message();
+  EXPECT_TRUE(own->materials[0].textures.count("cone_conservative"));
+  Result<Scene> quad =
+      load({{"depth_texture", tex}, {"cone_texture", tex}, {"cone_kind", "quad"}}, "quad");
+  ASSERT_TRUE(quad.ok()) << quad.status().message();
+  EXPECT_EQ(quad->materials[0].textures.at("cone_quad")->format(), TexFormat::kRGBA8);
+  const std::string f = [&] {
+    Doc d = quad_doc(dir_);
+    d.j["materials"][0]["extensions"]["RELIEF_relief_mapping"] = {{"depth_texture", tex},
+                                                                  {"cone_texture", tex}};
+    return d.write(dir_, "kindless");
+  }();
+  expect_error(f, "/materials/0/extensions/RELIEF_relief_mapping/cone_texture",
+               "technique relief reads no cone map: give cone_kind");
+}
+
 TEST_F(Gltf, IndexOutOfRange) {
   Doc d = quad_doc(dir_);
   const std::vector<uint16_t> idx = {0, 1, 9};
