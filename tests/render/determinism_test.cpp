@@ -8,8 +8,9 @@
 namespace relief {
 namespace {
 
-RenderResult render_plane(int threads, int tile, const std::string& technique, bool scalar = false) {
-  Result<Scene> scene = make_builtin_scene("plane");
+RenderResult render_plane(int threads, int tile, const std::string& technique, bool scalar = false,
+                          const char* scene_name = "plane") {
+  Result<Scene> scene = make_builtin_scene(scene_name);
   EXPECT_TRUE(scene.ok());
   RenderOptions opt;
   opt.width = 200;
@@ -32,23 +33,26 @@ bool identical(const Framebuffer& a, const Framebuffer& b) {
 }
 
 TEST(Determinism, PlaneIsBitIdenticalForAnyThreadCountAndTileSize) {
-  for (const char* technique : {"flat", "normal", "relief", "pom", "exact"}) {
-    const RenderResult ref = render_plane(1, 64, technique);
-    for (auto [threads, tile] : {std::pair{2, 64}, std::pair{7, 64}, std::pair{2, 16},
-                                 std::pair{7, 128}}) {
-      const RenderResult r = render_plane(threads, tile, technique);
-      EXPECT_TRUE(identical(ref.framebuffer, r.framebuffer))
-          << technique << " threads=" << threads << " tile=" << tile;
+  for (const char* scene : {"plane", "pattern"})
+    for (const char* technique : {"flat", "normal", "relief", "pom", "exact"}) {
+      const RenderResult ref = render_plane(1, 64, technique, false, scene);
+      for (auto [threads, tile] :
+           {std::pair{2, 64}, std::pair{7, 64}, std::pair{2, 16}, std::pair{7, 128}}) {
+        const RenderResult r = render_plane(threads, tile, technique, false, scene);
+        EXPECT_TRUE(identical(ref.framebuffer, r.framebuffer))
+            << scene << " " << technique << " threads=" << threads << " tile=" << tile;
+      }
     }
-  }
 }
 
 TEST(Determinism, ScalarAndSimdLanesAgreeBitForBit) {
-  for (const char* technique : {"flat", "normal", "parallax", "steep_parallax", "pom", "relief"}) {
-    const RenderResult simd = render_plane(2, 64, technique, false);
-    const RenderResult scalar = render_plane(2, 64, technique, true);
-    EXPECT_TRUE(identical(simd.framebuffer, scalar.framebuffer)) << technique;
-  }
+  for (const char* scene : {"plane", "pattern"})
+    for (const char* technique :
+         {"flat", "normal", "parallax", "steep_parallax", "pom", "relief"}) {
+      const RenderResult simd = render_plane(2, 64, technique, false, scene);
+      const RenderResult scalar = render_plane(2, 64, technique, true, scene);
+      EXPECT_TRUE(identical(simd.framebuffer, scalar.framebuffer)) << scene << " " << technique;
+    }
 }
 
 TEST(Render, PlaneHasNoNaNAndNormalDiffersFromFlat) {
