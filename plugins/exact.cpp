@@ -47,7 +47,7 @@ extern const PluginDescriptor kExactPlugin;
 const PluginDescriptor kExactPlugin = {
     kPluginAbiVersion, "exact", "exact first hit on the bilinear height field (max-mip traversal + patch solve): the reference",
     kParams, std::size(kParams), kReliefSlots, std::size(kReliefSlots),
-    kEffectSelfShadow | kEffectDepthWrite | kEffectShadowPass,
+    kReliefShellEffects,
     &select_relief_variant<ExactSearch>, &relief_depth_output, &create_exact, &destroy_exact,
 };
 

@@ -37,7 +37,7 @@ extern const PluginDescriptor kParallaxPlugin;
 const PluginDescriptor kParallaxPlugin = {
     kPluginAbiVersion, "parallax", "parallax mapping, one offset, optional offset limiting (Kaneko 2001; Welsh 2004)",
     kParams, std::size(kParams), kReliefSlots, std::size(kReliefSlots),
-    kEffectSelfShadow | kEffectDepthWrite | kEffectShadowPass,
+    kReliefShellEffects,
     &select_relief_variant<ParallaxSearch>, &relief_depth_output, nullptr, nullptr,
 };
 

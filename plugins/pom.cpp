@@ -38,7 +38,7 @@ extern const PluginDescriptor kPomPlugin;
 const PluginDescriptor kPomPlugin = {
     kPluginAbiVersion, "pom", "parallax occlusion mapping: linear search + secant of the last two samples (Tatarchuk 2006)",
     kParams, std::size(kParams), kReliefSlots, std::size(kReliefSlots),
-    kEffectSelfShadow | kEffectDepthWrite | kEffectShadowPass,
+    kReliefShellEffects,
     &select_relief_variant<PomSearch>, &relief_depth_output, nullptr, nullptr,
 };
 

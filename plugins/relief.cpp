@@ -42,7 +42,7 @@ extern const PluginDescriptor kReliefPlugin;
 const PluginDescriptor kReliefPlugin = {
     kPluginAbiVersion, "relief", "relief mapping: linear + binary search, self-shadow, depth correction (Policarpo et al. 2005)",
     kParams, std::size(kParams), kReliefSlots, std::size(kReliefSlots),
-    kEffectSelfShadow | kEffectDepthWrite | kEffectShadowPass,
+    kReliefShellEffects,
     &select_relief_variant<ReliefSearch>, &relief_depth_output, nullptr, nullptr,
 };
 

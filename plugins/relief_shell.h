@@ -1,10 +1,14 @@
 // The shell every height-field technique shares (parallax, steep_parallax, pom, relief, exact and
 // the cone family): the per-fragment tangent frame, the view ray in texture space, the constant
 // LOD per quad, depth correction of the hit, shading at the hit with the normal and base-colour
-// maps, and the self-shadow hook. Policarpo, Oliveira and Comba, "Real-Time Relief Mapping on
-// Arbitrary Polygonal Surfaces", I3D 2005 (figure 10 for the shadow ray, section 2 for the depth
-// correction) describe the frame the techniques differ inside of: only the search and the shadow
-// ray change from one plugin to the next.
+// maps, and the visibility hook: the technique's self-shadow ray, then (kEffectReceiveShadow) the
+// light's shadow map (shaders_cpp/shadow_map.h) looked up at the displaced hit point. With
+// kEffectShadowPass the kernel stops after the intersection and the corrected depth: the frame's
+// "eye" is then the light (orthographic with view_dir for a directional light). Policarpo,
+// Oliveira and Comba, "Real-Time Relief Mapping on Arbitrary Polygonal Surfaces", I3D 2005
+// (figure 10 for the shadow ray, section 2 for the depth correction) describe the frame the
+// techniques differ inside of: only the search and the shadow ray change from one plugin to the
+// next.
 //
 // A technique is a policy struct:
 //   static constexpr int kDepthScale;  // schema index of "depth_scale"
@@ -24,6 +28,7 @@
 #include "shaders_cpp/ray.h"
 #include "shaders_cpp/search.h"
 #include "shaders_cpp/shadow.h"
+#include "shaders_cpp/shadow_map.h"
 
 namespace relief {
 
@@ -58,6 +63,7 @@ template <class Search, EffectMask kEffects> struct ReliefKernel {
   static constexpr bool kShadow = (kEffects & kEffectSelfShadow) != 0;
   static constexpr bool kDepth = (kEffects & (kEffectDepthWrite | kEffectShadowPass)) != 0;
   static constexpr bool kShadowPass = (kEffects & kEffectShadowPass) != 0;
+  static constexpr bool kReceive = (kEffects & kEffectReceiveShadow) != 0;
 
   template <class F> static ShadeOut<F> shade(const ShadeContext& ctx, const FragIn<F>& in) {
     const MaterialUniforms& m = *ctx.material;
@@ -107,15 +113,22 @@ template <class Search, EffectMask kEffects> struct ReliefKernel {
         albedo = albedo * c.xyz();
         o.fetches += F(1.0f);
       }
-      // lighting at the displaced point
-      auto visibility = [&](int, V3<F> l, mask_t<F> lit) -> F {
+      // lighting at the displaced point: self-shadow ray, then the light's shadow map (lit lanes)
+      auto visibility = [&](int i, V3<F> l, mask_t<F> lit) -> F {
+        F vis(1.0f);
         if constexpr (kShadow) {
-          if (!dtex) return F(1.0f);
-          const V3<F> lt = tf.to_tangent(l);
-          return Search::shadow(ctx, depth, hit, light_step(lt, depth_scale), lt.z, active & lit, o);
-        } else {
-          return F(1.0f);
+          if (dtex) {
+            const V3<F> lt = tf.to_tangent(l);
+            vis = Search::shadow(ctx, depth, hit, light_step(lt, depth_scale), lt.z, active & lit,
+                                 o);
+          }
         }
+        if constexpr (kReceive) {
+          if (const ShadowMapView* sm = ctx.frame->lights[i].shadow)
+            vis = vis * shadow_map_visibility(*sm, pos, n, l, active & lit & (vis > F(0.0f)),
+                                              o.fetches);
+        }
+        return vis;
       };
       o.color = blinn_phong(*ctx.frame, m, pos, n, -w, albedo, visibility);
       o.alpha = F(m.base_color.a);
@@ -125,14 +138,26 @@ template <class Search, EffectMask kEffects> struct ReliefKernel {
   }
 };
 
+// The effects every plugin built on the shell supports.
+inline constexpr EffectMask kReliefShellEffects =
+    kEffectSelfShadow | kEffectDepthWrite | kEffectShadowPass | kEffectReceiveShadow;
+
+// The main-pass packet shader of `Search` with the effects kR (0 or kEffectReceiveShadow) and
+// self-shadow / depth write from `e`.
+template <class Search, EffectMask kR> ShadeFn select_lit_relief_variant(EffectMask e) {
+  constexpr EffectMask kS = kEffectSelfShadow, kD = kEffectDepthWrite;
+  if (e & kD)
+    return (e & kS) ? &shade_packet<ReliefKernel<Search, kS | kD | kR>>
+                    : &shade_packet<ReliefKernel<Search, kD | kR>>;
+  return (e & kS) ? &shade_packet<ReliefKernel<Search, kS | kR>>
+                  : &shade_packet<ReliefKernel<Search, kR>>;
+}
+
 // The packet shader of `Search` for a combination of effects (one instantiation each).
 template <class Search> ShadeFn select_relief_variant(EffectMask e) {
-  constexpr EffectMask kS = kEffectSelfShadow, kD = kEffectDepthWrite;
   if (e & kEffectShadowPass) return &shade_packet<ReliefKernel<Search, kEffectShadowPass>>;
-  if (e & kD)
-    return (e & kS) ? &shade_packet<ReliefKernel<Search, kS | kD>>
-                    : &shade_packet<ReliefKernel<Search, kD>>;
-  return (e & kS) ? &shade_packet<ReliefKernel<Search, kS>> : &shade_packet<ReliefKernel<Search, 0>>;
+  return (e & kEffectReceiveShadow) ? select_lit_relief_variant<Search, kEffectReceiveShadow>(e)
+                                    : select_lit_relief_variant<Search, 0>(e);
 }
 
 // Relief depth only moves away from the viewer: the conservative early test holds.

@@ -37,7 +37,7 @@ extern const PluginDescriptor kSteepParallaxPlugin;
 const PluginDescriptor kSteepParallaxPlugin = {
     kPluginAbiVersion, "steep_parallax", "steep parallax: n depth planes, constant LOD, self-shadow (McGuire & McGuire 2005)",
     kParams, std::size(kParams), kReliefSlots, std::size(kReliefSlots),
-    kEffectSelfShadow | kEffectDepthWrite | kEffectShadowPass,
+    kReliefShellEffects,
     &select_relief_variant<SteepSearch>, &relief_depth_output, nullptr, nullptr,
 };
 

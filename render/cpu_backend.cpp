@@ -1,4 +1,6 @@
-// The CPU backend: executes a Plan with the tile rasterizer and the C++ plugins.
+// The CPU backend: executes a Plan with the tile rasterizer and the C++ plugins: the shadow passes
+// (render/shadow_map.h; Williams 1978), each a depth-only pass per face from the light, then the
+// main pass, whose receivers read the maps through LightUniform::shadow.
 #include <chrono>
 #include <memory>
 
@@ -7,6 +9,12 @@
 
 namespace relief {
 namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double ms_between(Clock::time_point a, Clock::time_point b) {
+  return std::chrono::duration<double, std::milli>(b - a).count();
+}
 
 // What the packet shader receives as its `user` pointer: the plugin's shade entry and context.
 struct DrawBinding {
@@ -20,12 +28,39 @@ void call_plugin(const void* user, const FragmentPacket& in, FragmentOutput& out
   b->fn(b->ctx, in, out, counters);
 }
 
+// Casters without a shadow-pass variant: polygon depth only, nothing to shade.
+void depth_only(const void*, const FragmentPacket&, FragmentOutput&, WorkCounters&) {}
+
 DepthTest depth_test_for(DepthOutput d) {
   switch (d) {
-    case DepthOutput::kNone: return DepthTest::kEarly;
-    case DepthOutput::kFarther: return DepthTest::kConservative;
-    default: return DepthTest::kLate;
+    case DepthOutput::kNone:
+      return DepthTest::kEarly;
+    case DepthOutput::kFarther:
+      return DepthTest::kConservative;
+    default:
+      return DepthTest::kLate;
   }
+}
+
+DrawCall make_draw(const PreparedDraw& p, const BoundMaterial& b) {
+  DrawCall dc;
+  dc.clip = p.clip;
+  dc.varyings = p.varyings;
+  dc.num_varyings = varying::kCount;
+  dc.indices = *p.indices;
+  dc.cull = b.double_sided ? CullMode::kNone : CullMode::kBack;
+  return dc;
+}
+
+void add_raster(RasterStats& sum, const RasterStats& s) {
+  sum.triangles_in += s.triangles_in;
+  sum.triangles_culled += s.triangles_culled;
+  sum.triangles_clipped += s.triangles_clipped;
+  sum.triangles_binned += s.triangles_binned;
+  sum.quads += s.quads;
+  sum.work += s.work;
+  sum.setup_ms += s.setup_ms;
+  sum.raster_ms += s.raster_ms;
 }
 
 class CpuBackend final : public Backend {
@@ -35,7 +70,6 @@ class CpuBackend final : public Backend {
 
   Result<RenderResult> render(const Scene& scene, const Plan& plan,
                               const RenderOptions& opt) override {
-    using Clock = std::chrono::steady_clock;
     const auto t0 = Clock::now();
     RenderResult result;
     result.device = "cpu (" + std::to_string(pool_.size()) + " threads)";
@@ -44,48 +78,112 @@ class CpuBackend final : public Backend {
 
     // Plugin state (derived maps) per material, built once per frame here.
     std::vector<std::unique_ptr<void, void (*)(void*)>> states;
-    std::vector<DrawBinding> bindings(plan.materials.size());
-    std::vector<DepthTest> tests(plan.materials.size());
+    std::vector<const void*> state_of(plan.materials.size(), nullptr);
     for (size_t m = 0; m < plan.materials.size(); ++m) {
       const BoundMaterial& b = plan.materials[m];
       void* state = b.plugin->create_state ? b.plugin->create_state(b.uniforms) : nullptr;
       if (state) states.emplace_back(state, b.plugin->destroy_state);
-      bindings[m].fn = b.plugin->select(b.effects);
-      bindings[m].ctx = ShadeContext{&plan.frame, &b.uniforms, state, b.effects};
-      tests[m] = depth_test_for(b.plugin->depth_output(b.effects));
+      state_of[m] = state;
+    }
+    if (!rasterizer_ || rasterizer_->config().tile_size != opt.tile_size)
+      rasterizer_ = std::make_unique<Rasterizer>(pool_, RasterConfig{opt.tile_size});
+
+    // Shadow passes: one depth map per face, kept until the main pass has read them.
+    FrameUniforms frame = plan.frame;
+    std::vector<std::vector<Plane>> maps;
+    std::vector<ShadowMapView> views;
+    maps.reserve(plan.passes.size());
+    views.reserve(plan.passes.size());
+    for (const PassPlan& pass : plan.passes) {
+      if (pass.kind != PassPlan::Kind::kShadow) continue;
+      maps.push_back(shadow_pass(scene, plan, pass, state_of, result));
+      views.push_back(make_shadow_view(pass.shadow, maps.back(), plan.shadow));
+      frame.lights[pass.light].shadow = &views.back();
     }
 
-    const std::vector<PreparedDraw> prepared = prepare_draws(scene, plan.frame.view_proj);
+    // The main pass.
+    std::vector<DrawBinding> bindings(plan.materials.size());
+    std::vector<DepthTest> tests(plan.materials.size());
+    for (size_t m = 0; m < plan.materials.size(); ++m) {
+      const BoundMaterial& b = plan.materials[m];
+      bindings[m].fn = b.plugin->select(b.effects);
+      bindings[m].ctx = ShadeContext{&frame, &b.uniforms, state_of[m], b.effects};
+      tests[m] = depth_test_for(b.plugin->depth_output(b.effects));
+    }
+    const std::vector<PreparedDraw> prepared = prepare_draws(scene, frame.view_proj);
     std::vector<DrawCall> draws;
     draws.reserve(prepared.size());
     for (const PreparedDraw& p : prepared) {
-      const BoundMaterial& b = plan.materials[p.material];
-      DrawCall dc;
-      dc.clip = p.clip;
-      dc.varyings = p.varyings;
-      dc.num_varyings = varying::kCount;
-      dc.indices = *p.indices;
-      dc.cull = b.double_sided ? CullMode::kNone : CullMode::kBack;
+      DrawCall dc = make_draw(p, plan.materials[p.material]);
       dc.depth_test = tests[p.material];
       dc.aov_write = opt.aovs != 0;
       dc.shader = &call_plugin;
       dc.user = &bindings[p.material];
       draws.push_back(dc);
     }
-    if (!rasterizer_ || rasterizer_->config().tile_size != opt.tile_size)
-      rasterizer_ = std::make_unique<Rasterizer>(pool_, RasterConfig{opt.tile_size});
     const auto t1 = Clock::now();
     PassStats main;
     main.name = "main";
     main.raster = rasterizer_->draw(result.framebuffer, draws);
     const auto t2 = Clock::now();
-    main.ms = std::chrono::duration<double, std::milli>(t2 - t1).count();
+    main.ms = ms_between(t1, t2);
     result.passes.push_back(main);
-    result.frame_ms = std::chrono::duration<double, std::milli>(t2 - t0).count();
+    result.frame_ms = ms_between(t0, t2);
     return result;
   }
 
  private:
+  // Renders the depth maps of one shadow pass: every caster from each face of the light's view,
+  // depth only (no colour, no AOVs); relief casters with their shadow-pass variant.
+  std::vector<Plane> shadow_pass(const Scene& scene, const Plan& plan, const PassPlan& pass,
+                                 const std::vector<const void*>& state_of, RenderResult& result) {
+    const auto t0 = Clock::now();
+    const ShadowPassSetup& s = pass.shadow;
+    PassStats stats;
+    stats.name = pass.name;
+    stats.kind = PassPlan::Kind::kShadow;
+    stats.light = pass.light;
+    stats.faces = s.faces;
+    stats.resolution = s.size;
+    std::vector<Plane> faces;
+    std::vector<DrawBinding> bindings(plan.materials.size());
+    for (int f = 0; f < s.faces; ++f) {
+      const FrameUniforms frame = shadow_face_frame(s, f);
+      for (size_t m = 0; m < plan.materials.size(); ++m) {
+        const BoundMaterial& b = plan.materials[m];
+        bindings[m].fn = b.shadow_effects ? b.plugin->select(b.shadow_effects) : nullptr;
+        bindings[m].ctx = ShadeContext{&frame, &b.uniforms, state_of[m], b.shadow_effects};
+      }
+      const std::vector<PreparedDraw> prepared = prepare_draws(scene, frame.view_proj);
+      std::vector<DrawCall> draws;
+      for (int i : pass.instances) {
+        const PreparedDraw& p = prepared[i];
+        const BoundMaterial& b = plan.materials[p.material];
+        if (!b.shadow_caster) continue;
+        DrawCall dc = make_draw(p, b);
+        dc.color_write = false;
+        if (bindings[p.material].fn) {
+          dc.depth_test = depth_test_for(b.plugin->depth_output(b.shadow_effects));
+          dc.shader = &call_plugin;
+          dc.user = &bindings[p.material];
+        } else {
+          dc.depth_test = DepthTest::kEarly;
+          dc.shader = &depth_only;
+        }
+        draws.push_back(dc);
+      }
+      // Depth only: no colour image is allocated.
+      Framebuffer fb;
+      fb.width = fb.height = s.size;
+      fb.depth = Plane(s.size, s.size, 0.0f);
+      add_raster(stats.raster, rasterizer_->draw(fb, draws));
+      faces.push_back(std::move(fb.depth));
+    }
+    stats.ms = ms_between(t0, Clock::now());
+    result.passes.push_back(stats);
+    return faces;
+  }
+
   ThreadPool pool_;
   std::unique_ptr<Rasterizer> rasterizer_;
 };

@@ -1,5 +1,6 @@
 // The planner (DESIGN.md, "Effects, and simulating only what a scene calls for").
 #include <sstream>
+#include <utility>
 
 #include <glm/geometric.hpp>
 #include <glm/trigonometric.hpp>
@@ -24,21 +25,161 @@ void add_effect(BoundMaterial& b, EffectMask effect, bool asked, const char* nam
   b.reasons.push_back(std::string(name) + ": on");
 }
 
+std::string effect_names(EffectMask e) {
+  static const std::pair<EffectMask, const char*> kNames[] = {
+      {kEffectSelfShadow, "self_shadow"},       {kEffectDepthWrite, "depth_write"},
+      {kEffectSilhouette, "silhouette"},        {kEffectShadowPass, "shadow_pass"},
+      {kEffectReceiveShadow, "receive_shadow"},
+  };
+  std::string s;
+  for (const auto& [bit, name] : kNames)
+    if (e & bit) s += (s.empty() ? "" : ", ") + std::string(name);
+  return "{" + s + "}";
+}
+
+const char* light_type_name(LightType t) {
+  switch (t) {
+    case LightType::kDirectional:
+      return "directional";
+    case LightType::kPoint:
+      return "point";
+    default:
+      return "spot";
+  }
+}
+
+Status check_shadow_settings(const ShadowSettings& s) {
+  const auto bad = [](float v) { return !(v >= 0.0f && v <= 64.0f); };
+  if (bad(s.depth_bias)) return Status::usage("shadow depth bias: expected 0..64 texels");
+  if (bad(s.slope_bias)) return Status::usage("shadow slope bias: expected 0..64 texels");
+  if (s.pcf_radius < 0 || s.pcf_radius > kMaxPcfRadius)
+    return Status::usage("shadow PCF radius: expected 0.." + std::to_string(kMaxPcfRadius));
+  return {};
+}
+
+// Who casts and who visibly receives, over the scene's instances.
+struct ShadowParticipants {
+  Bounds casters, receivers;  // receivers: clipped to the camera's view box
+  std::vector<int> caster_instances;
+  int relief_casters = 0;  // casters whose plugin runs its intersection from the light
+  int visible = 0, visible_receivers = 0;
+};
+
+ShadowParticipants find_participants(const Scene& scene, const Plan& plan) {
+  ShadowParticipants p;
+  for (size_t i = 0; i < scene.instances.size(); ++i) {
+    const int mi = scene.instances[i].material;
+    const Material& m = scene.materials[mi];
+    const PluginDescriptor& plugin = *plan.materials[mi].plugin;
+    const Bounds b = instance_bounds(scene, static_cast<int>(i));
+    if (m.casts_shadow && !b.empty()) {
+      p.casters.add(b);
+      p.caster_instances.push_back(static_cast<int>(i));
+      if (plugin.supported_effects & kEffectShadowPass) ++p.relief_casters;
+    }
+    if (!bounds_in_view(b, plan.frame.view_proj)) continue;
+    ++p.visible;
+    if (m.receives_shadow && (plugin.supported_effects & kEffectReceiveShadow)) {
+      p.receivers.add(clip_to_view(b, plan.frame.view_proj));
+      ++p.visible_receivers;
+    }
+  }
+  return p;
+}
+
+// A shadow pass per light that casts shadows, when something casts and something visible
+// receives (DESIGN.md); the others are listed in plan.skipped with the reason.
+Status plan_shadow_passes(const Scene& scene, const RenderOptions& opt, Plan& plan) {
+  const ShadowParticipants who = find_participants(scene, plan);
+  for (size_t li = 0; li < scene.lights.size(); ++li) {
+    const Light& l = scene.lights[li];
+    const std::string head = "light '" + l.name + "' (" + light_type_name(l.type) + "): ";
+    std::string why_not;
+    if (!l.casts_shadows)
+      why_not = "casts_shadows is off";
+    else if (!opt.shadows)
+      why_not = "shadows are switched off for this frame";
+    else if (who.caster_instances.empty())
+      why_not = "no material casts shadows";
+    else if (who.visible_receivers == 0)
+      why_not = "nothing visible receives shadows (" + std::to_string(who.visible) +
+                " visible instance(s), none with receives_shadow on a plugin that supports it)";
+    if (!why_not.empty()) {
+      plan.skipped.push_back(head + "no shadow pass: " + why_not);
+      continue;
+    }
+    if (l.shadow_resolution < 16 || l.shadow_resolution > kMaxTargetSize)
+      return Status::error(head + "shadow_resolution " + std::to_string(l.shadow_resolution) +
+                           " out of range 16.." + std::to_string(kMaxTargetSize));
+    PassPlan pass;
+    pass.kind = PassPlan::Kind::kShadow;
+    pass.name = "shadow:" + l.name;
+    pass.light = static_cast<int>(li);
+    pass.instances = who.caster_instances;
+    pass.shadow = fit_shadow_pass(l, who.receivers, who.casters, opt.shadow);
+    pass.reason = head + "casts shadows; " + std::to_string(who.caster_instances.size()) +
+                  " caster(s), " + std::to_string(who.relief_casters) +
+                  " with relief depth from the light; " + std::to_string(who.visible_receivers) +
+                  " visible receiver(s); " + describe_shadow_pass(pass.shadow);
+    plan.passes.push_back(std::move(pass));
+  }
+  return {};
+}
+
+// Each material's part in the shadow passes: receiving (main-pass variant) and casting
+// (shadow-pass variant).
+void plan_shadow_variants(const Scene& scene, Plan& plan) {
+  std::string maps;
+  for (const PassPlan& p : plan.passes)
+    if (p.kind == PassPlan::Kind::kShadow) maps += (maps.empty() ? "" : ", ") + p.name;
+  const bool any = !maps.empty();
+  for (size_t k = 0; k < scene.materials.size(); ++k) {
+    const Material& m = scene.materials[k];
+    BoundMaterial& b = plan.materials[k];
+    const std::string plugin = b.plugin->name;
+    if (!m.receives_shadow)
+      b.reasons.push_back("receive_shadow: off (not asked by the material)");
+    else if (!(b.plugin->supported_effects & kEffectReceiveShadow))
+      b.reasons.push_back("receive_shadow: off (" + plugin + " does not support it)");
+    else if (!any)
+      b.reasons.push_back("receive_shadow: off (no shadow pass)");
+    else {
+      b.effects |= kEffectReceiveShadow;
+      b.reasons.push_back("receive_shadow: on (looks up " + maps + " at the shaded point)");
+    }
+    if (!m.casts_shadow) {
+      b.reasons.push_back("casts_shadow: off (not asked by the material)");
+    } else if (!any) {
+      b.reasons.push_back("casts_shadow: asked, but there is no shadow pass");
+    } else if (b.plugin->supported_effects & kEffectShadowPass) {
+      b.shadow_caster = true;
+      b.shadow_effects = kEffectShadowPass | (b.effects & kEffectSilhouette);
+      b.reasons.push_back("casts_shadow: on (shadow passes run " + plugin +
+                          "'s intersection from the light and write the corrected depth)");
+    } else {
+      b.shadow_caster = true;
+      b.reasons.push_back("casts_shadow: on (polygon depth: " + plugin +
+                          " has no shadow-pass variant)");
+    }
+  }
+}
+
 }  // namespace
 
 Result<Plan> make_plan(const Scene& scene, const RenderOptions& opt) {
   Plan plan;
   if (scene.cameras.empty()) return Status::error("scene '" + scene.name + "' has no camera");
   if (opt.camera < 0 || opt.camera >= static_cast<int>(scene.cameras.size()))
-    return Status::usage("camera index " + std::to_string(opt.camera) + " out of range (scene has " +
-                         std::to_string(scene.cameras.size()) + ")");
+    return Status::usage("camera index " + std::to_string(opt.camera) +
+                         " out of range (scene has " + std::to_string(scene.cameras.size()) + ")");
   const PluginRegistry& reg = PluginRegistry::global();
   if (!opt.technique.empty() && !reg.find(opt.technique))
     return Status::usage("unknown technique '" + opt.technique + "' (see `relief techniques`)");
 
-  bool any_self_shadow = false;
+  RELIEF_RETURN_IF_ERROR(check_shadow_settings(opt.shadow));
   for (const Material& m : scene.materials) {
     BoundMaterial b;
+    b.name = m.name;
     const std::string technique = opt.technique.empty() ? m.technique : opt.technique;
     b.plugin = reg.find(technique);
     if (!b.plugin)
@@ -76,10 +217,15 @@ Result<Plan> make_plan(const Scene& scene, const RenderOptions& opt) {
     b.uniforms.specular = m.specular;
     b.uniforms.shininess = m.shininess;
     b.double_sided = m.double_sided;
-    add_effect(b, kEffectSelfShadow, m.self_shadow && !scene.lights.empty(), "self_shadow");
+    if (m.self_shadow && scene.lights.empty())
+      b.reasons.push_back("self_shadow: off (the scene has no light)");
+    else if (m.self_shadow && !opt.self_shadow)
+      b.reasons.push_back("self_shadow: off (switched off for this frame)");
+    else
+      add_effect(b, kEffectSelfShadow, m.self_shadow, "self_shadow");
+    if (b.effects & kEffectSelfShadow) b.reasons.back() += " (rays only where N.L > 0)";
     add_effect(b, kEffectDepthWrite, m.depth_write, "depth_write");
     add_effect(b, kEffectSilhouette, m.silhouette, "silhouette");
-    any_self_shadow |= (b.effects & kEffectSelfShadow) != 0;
     plan.materials.push_back(std::move(b));
   }
 
@@ -109,13 +255,19 @@ Result<Plan> make_plan(const Scene& scene, const RenderOptions& opt) {
     u.inner_cone_cos = std::cos(glm::radians(l.inner_cone_deg));
     u.outer_cone_cos = std::cos(glm::radians(l.outer_cone_deg));
   }
+  for (const Instance& inst : scene.instances)
+    if (inst.material < 0 || inst.material >= static_cast<int>(scene.materials.size()) ||
+        inst.mesh < 0 || inst.mesh >= static_cast<int>(scene.meshes.size()))
+      return Status::error("scene '" + scene.name + "': an instance has no valid mesh or material");
+  plan.shadow = opt.shadow;
+  RELIEF_RETURN_IF_ERROR(plan_shadow_passes(scene, opt, plan));
+  plan_shadow_variants(scene, plan);
   PassPlan main;
   main.kind = PassPlan::Kind::kMain;
   main.name = "main";
-  main.reason = "camera '" + cam.name + "', " + std::to_string(scene.instances.size()) +
-                " instance(s)";
+  main.reason =
+      "camera '" + cam.name + "', " + std::to_string(scene.instances.size()) + " instance(s)";
   plan.passes.push_back(main);
-  (void)any_self_shadow;
   return plan;
 }
 
@@ -123,10 +275,17 @@ std::string Plan::explain() const {
   std::ostringstream os;
   os << "passes:\n";
   for (const PassPlan& p : passes) os << "  " << p.name << ": " << p.reason << "\n";
+  if (!skipped.empty()) {
+    os << "not planned:\n";
+    for (const std::string& s : skipped) os << "  " << s << "\n";
+  }
   os << "materials:\n";
   for (size_t i = 0; i < materials.size(); ++i) {
     const BoundMaterial& b = materials[i];
-    os << "  [" << i << "] " << b.plugin->name << "\n";
+    os << "  [" << i << "] " << b.name << ": " << b.plugin->name << ", main variant "
+       << effect_names(b.effects);
+    if (b.shadow_caster) os << ", shadow-pass variant " << effect_names(b.shadow_effects);
+    os << "\n";
     for (const std::string& r : b.reasons) os << "      " << r << "\n";
   }
   return os.str();

@@ -16,6 +16,7 @@
 #include "rasterizer/image.h"
 #include "rasterizer/pipeline.h"
 #include "rasterizer/status.h"
+#include "render/shadow_map.h"
 #include "scene/scene.h"
 
 namespace relief {
@@ -30,16 +31,27 @@ struct RenderOptions {
   std::map<std::string, std::string> params;  // key=value overrides of plugin parameters
   AovMask aovs = 0;
   bool scalar_lanes = false;  // run kernels one fragment at a time (reference path)
+  // Effect switches over the whole scene (the scene's own choices still apply): shadow passes
+  // (shadow maps) and self-shadow rays. Bias and filtering of the shadow-map lookups.
+  bool shadows = true;
+  bool self_shadow = true;
+  ShadowSettings shadow;
 };
 
 // One material bound to its plugin: parameter values in schema order, textures by slot.
 struct BoundMaterial {
+  std::string name;  // Material::name
   const PluginDescriptor* plugin = nullptr;
   MaterialUniforms uniforms;
   EffectMask effects = 0;               // requested & supported
   std::vector<std::string> reasons;     // why each effect is on or off (for --explain)
   std::vector<TexturePtr> keep_alive;   // textures referenced by uniforms
   bool double_sided = false;
+  // Shadow passes: whether the material's instances are drawn into them and with which variant
+  // (kEffectShadowPass: intersection from the light and corrected depth; 0: polygon depth, no
+  // shading).
+  bool shadow_caster = false;
+  EffectMask shadow_effects = 0;
 };
 
 struct PassPlan {
@@ -47,12 +59,16 @@ struct PassPlan {
   std::string name;
   std::string reason;
   int light = -1;  // shadow passes
+  std::vector<int> instances;  // shadow passes: the casters drawn
+  ShadowPassSetup shadow;      // shadow passes: the light's view
 };
 
 struct Plan {
   std::vector<BoundMaterial> materials;  // parallel to Scene::materials
   std::vector<PassPlan> passes;
   FrameUniforms frame;                   // main-pass camera and lights
+  ShadowSettings shadow;                 // lookups of every shadow pass
+  std::vector<std::string> skipped;      // passes not made, and why (for --explain)
   std::string explain() const;           // human-readable plan, one line per decision
 };
 
@@ -73,6 +89,10 @@ struct PassStats {
   double ms = 0.0;
   RasterStats raster;  // CPU backend
   double gpu_ms = -1.0;  // GL backend: GL_TIME_ELAPSED of the pass (-1: not measured)
+  PassPlan::Kind kind = PassPlan::Kind::kMain;
+  int light = -1;      // shadow passes: index into Scene::lights
+  int faces = 1;       // shadow passes: 6 for a point light's cube (raster counters summed)
+  int resolution = 0;  // shadow passes: texels per side
 };
 
 struct RenderResult {
