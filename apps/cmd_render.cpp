@@ -35,6 +35,9 @@ struct RenderArgs {
   int gpu = -1;
   bool explain = false;
   bool scalar = false;
+  bool no_shadows = false;
+  bool no_self_shadow = false;
+  ShadowSettings shadow;
 };
 
 // Files are first written under temporary names, renamed into place only when all succeeded.
@@ -82,6 +85,12 @@ nlohmann::json stats_json(const RenderResult& r, const std::string& scene,
     const RasterStats& s = p.raster;
     nlohmann::json pj;
     pj["name"] = p.name;
+    pj["kind"] = p.kind == PassPlan::Kind::kShadow ? "shadow" : "main";
+    if (p.kind == PassPlan::Kind::kShadow) {
+      pj["light"] = p.light;
+      pj["faces"] = p.faces;
+      pj["resolution"] = p.resolution;
+    }
     pj["ms"] = p.ms;
     pj["gpu_ms"] = p.gpu_ms;
     pj["setup_ms"] = s.setup_ms;
@@ -112,6 +121,9 @@ int do_render(const RenderArgs& a) {
   opt.tile_size = a.tile_size;
   opt.technique = a.technique;
   opt.scalar_lanes = a.scalar;
+  opt.shadows = !a.no_shadows;
+  opt.self_shadow = !a.no_self_shadow;
+  opt.shadow = a.shadow;
   for (const std::string& kv : a.params) {
     const size_t eq = kv.find('=');
     if (eq == std::string::npos || eq == 0)
@@ -172,7 +184,10 @@ int do_render(const RenderArgs& a) {
   }
   if (!a.stats.empty()) {
     const std::string tmp = out.temp_for(a.stats);
-    s = write_text_atomic(tmp, stats_json(*r, scene_name, opt).dump(2) + "\n");
+    nlohmann::json j = stats_json(*r, scene_name, opt);
+    for (const PassPlan& p : plan->passes) j["plan"]["passes"][p.name] = p.reason;
+    j["plan"]["skipped"] = plan->skipped;
+    s = write_text_atomic(tmp, j.dump(2) + "\n");
     if (!s.ok()) return fail(a.stats + ": cannot write statistics", 1);
   }
   s = out.commit();
@@ -207,6 +222,16 @@ void register_render(CLI::App& app, Action& action) {
   sub->add_option("--gpu", a->gpu, "GL backend: EGL device index (-1 = first usable)");
   sub->add_flag("--explain", a->explain, "Print the plan: passes, variants and why");
   sub->add_flag("--scalar", a->scalar, "Run kernels one fragment at a time (reference path)");
+  sub->add_flag("--no-shadows", a->no_shadows, "No shadow passes (shadow maps) in this frame");
+  sub->add_flag("--no-self-shadow", a->no_self_shadow, "No self-shadow rays in this frame");
+  sub->add_option("--shadow-bias", a->shadow.depth_bias, "Shadow-map constant bias, texels")
+      ->capture_default_str();
+  sub->add_option("--shadow-slope-bias", a->shadow.slope_bias,
+                  "Shadow-map slope-scaled bias, texels per unit tan(angle)")
+      ->capture_default_str();
+  sub->add_option("--shadow-pcf", a->shadow.pcf_radius,
+                  "Shadow-map PCF radius r: (2r+2)^2 bilinear taps")
+      ->capture_default_str();
   sub->callback([&action, a] { action = [a] { return do_render(*a); }; });
 }
 

@@ -37,11 +37,7 @@ float smooth01(float x) {
   return x * x * (3.0f - 2.0f * x);
 }
 
-struct Texel {
-  float depth;      // 0 top, 1 deepest
-  glm::vec3 color;  // linear
-};
-using Pattern = std::function<Texel(float u, float v)>;
+using Texel = ReliefTexel;
 
 // Square stone tiles, 4 x 4 per texture tile: grout at depth 1, bevelled faces with a small tilt.
 Texel floor_tiles(float u, float v) {
@@ -80,11 +76,11 @@ Texel ashlar(float u, float v) {
           glm::vec3(0.62f, 0.50f, 0.38f) * (0.8f + 0.3f * tone)};
 }
 
-// Six rounded flutes across u (a column's shaft), with a light band every quarter of v.
+// Six rounded flutes across u (a column's shaft), with a band once per tile along v.
 Texel flutes(float u, float v) {
   const float groove = 0.5f - 0.5f * std::cos(2.0f * kPi * u * 6.0f);
-  const float fv = v * 4.0f - std::floor(v * 4.0f);
-  const float band = fv < 0.06f ? 1.0f : 0.0f;
+  const float fv = v - std::floor(v);
+  const float band = fv < 0.04f ? 1.0f : 0.0f;
   return {std::clamp(groove * (1.0f - band), 0.0f, 1.0f),
           glm::vec3(0.78f, 0.76f, 0.70f) * (band > 0.0f ? 0.85f : 1.0f)};
 }
@@ -124,11 +120,10 @@ uint8_t to_srgb8(float x) {
   return static_cast<uint8_t>(std::lround(s * 255.0f));
 }
 
-// A relief material from a pattern sampled at texel centres: R8 depth, sRGB colour and the
-// normal map derived from the depth, all with mip chains; technique relief with self-shadow and
-// depth writes.
-Material relief_material(const std::string& name, const Pattern& pattern, int size,
-                         float depth_scale) {
+}  // namespace
+
+Material procedural_relief_material(const std::string& name, const ReliefPattern& pattern, int size,
+                                    float depth_scale) {
   std::vector<float> depth(size_t(size) * size);
   std::vector<uint8_t> rgba(size_t(size) * size * 4, 255);
   for (int y = 0; y < size; ++y)
@@ -154,8 +149,7 @@ Material relief_material(const std::string& name, const Pattern& pattern, int si
   return m;
 }
 
-// A rectangle from `corner` along edges eu and ev, facing cross(eu, ev), uv from (0, 0) to uv_max.
-void add_quad(Mesh& m, glm::vec3 corner, glm::vec3 eu, glm::vec3 ev, glm::vec2 uv_max) {
+void add_rect(Mesh& m, glm::vec3 corner, glm::vec3 eu, glm::vec3 ev, glm::vec2 uv_max) {
   const uint32_t base = static_cast<uint32_t>(m.positions.size());
   const glm::vec3 n = glm::normalize(glm::cross(eu, ev));
   m.positions.insert(m.positions.end(), {corner, corner + eu, corner + eu + ev, corner + ev});
@@ -164,17 +158,19 @@ void add_quad(Mesh& m, glm::vec3 corner, glm::vec3 eu, glm::vec3 ev, glm::vec2 u
   m.indices.insert(m.indices.end(), {base, base + 1, base + 2, base, base + 2, base + 3});
 }
 
+namespace {
+
 // A square column standing on y = 0: four sides and the top, one texture tile across each side.
 Mesh make_column(glm::vec2 c, float half, float height) {
   Mesh m;
   m.name = "column";
   const float w = 2.0f * half;
   const glm::vec2 side(1.0f, height / w);
-  add_quad(m, {c.x - half, 0, c.y + half}, {w, 0, 0}, {0, height, 0}, side);
-  add_quad(m, {c.x + half, 0, c.y + half}, {0, 0, -w}, {0, height, 0}, side);
-  add_quad(m, {c.x + half, 0, c.y - half}, {-w, 0, 0}, {0, height, 0}, side);
-  add_quad(m, {c.x - half, 0, c.y - half}, {0, 0, w}, {0, height, 0}, side);
-  add_quad(m, {c.x - half, height, c.y + half}, {w, 0, 0}, {0, 0, -w}, {1.0f, 1.0f});
+  add_rect(m, {c.x - half, 0, c.y + half}, {w, 0, 0}, {0, height, 0}, side);
+  add_rect(m, {c.x + half, 0, c.y + half}, {0, 0, -w}, {0, height, 0}, side);
+  add_rect(m, {c.x + half, 0, c.y - half}, {-w, 0, 0}, {0, height, 0}, side);
+  add_rect(m, {c.x - half, 0, c.y - half}, {0, 0, w}, {0, height, 0}, side);
+  add_rect(m, {c.x - half, height, c.y + half}, {w, 0, 0}, {0, 0, -w}, {1.0f, 1.0f});
   prepare_mesh(m);
   return m;
 }
@@ -208,10 +204,10 @@ Result<Scene> make_room_scene() {
   Scene s;
   s.name = "room";
   const float half = 4.0f, height = 4.0f;
-  s.materials.push_back(relief_material("floor_tiles", floor_tiles, 512, 0.04f));
-  s.materials.push_back(relief_material("ashlar_walls", ashlar, 512, 0.05f));
-  s.materials.push_back(relief_material("fluted_columns", flutes, 256, 0.06f));
-  s.materials.push_back(relief_material("cobble_sphere", cobbles, 512, 0.05f));
+  s.materials.push_back(procedural_relief_material("floor_tiles", floor_tiles, 512, 0.04f));
+  s.materials.push_back(procedural_relief_material("ashlar_walls", ashlar, 512, 0.05f));
+  s.materials.push_back(procedural_relief_material("fluted_columns", flutes, 256, 0.06f));
+  s.materials.push_back(procedural_relief_material("cobble_sphere", cobbles, 512, 0.05f));
   enum { kFloorMat, kWallMat, kColumnMat, kSphereMat };
   auto add = [&](Mesh mesh, int material) {
     s.meshes.push_back(std::move(mesh));
@@ -219,14 +215,14 @@ Result<Scene> make_room_scene() {
   };
   Mesh floor;
   floor.name = "floor";
-  add_quad(floor, {-half, 0, half}, {2 * half, 0, 0}, {0, 0, -2 * half}, {4, 4});
+  add_rect(floor, {-half, 0, half}, {2 * half, 0, 0}, {0, 0, -2 * half}, {4, 4});
   prepare_mesh(floor);
   add(std::move(floor), kFloorMat);
   Mesh walls;
   walls.name = "walls";  // back (facing +z), left (+x), right (-x); the front stays open
-  add_quad(walls, {-half, 0, -half}, {2 * half, 0, 0}, {0, height, 0}, {4, 2});
-  add_quad(walls, {-half, 0, half}, {0, 0, -2 * half}, {0, height, 0}, {4, 2});
-  add_quad(walls, {half, 0, -half}, {0, 0, 2 * half}, {0, height, 0}, {4, 2});
+  add_rect(walls, {-half, 0, -half}, {2 * half, 0, 0}, {0, height, 0}, {4, 2});
+  add_rect(walls, {-half, 0, half}, {0, 0, -2 * half}, {0, height, 0}, {4, 2});
+  add_rect(walls, {half, 0, -half}, {0, 0, 2 * half}, {0, height, 0}, {4, 2});
   prepare_mesh(walls);
   add(std::move(walls), kWallMat);
   for (const glm::vec2 c : {glm::vec2(-2.6f, -2.6f), glm::vec2(2.6f, -2.6f), glm::vec2(-2.6f, 0.9f),
