@@ -1,0 +1,93 @@
+// Technique cost on the built-in `plane` scene at 1024x768 with 2 threads (issue 3): for each
+// technique of the relief family at the step counts of the papers (Policarpo, Oliveira and Comba
+// 2005: relief 10 + 5 and 32 + 8; McGuire 2005: steep parallax 32; Tatarchuk 2006: POM 32;
+// Kaneko 2001 / Welsh 2004: parallax; the exact max-mip reference of Tevs et al. 2008; the cone
+// family of Policarpo and Oliveira 2007 at the chapter's 15 steps), the frame
+// time and, as user counters, ns per fragment and texture fetches, search steps and shadow steps
+// per fragment. The scene's self-shadow and depth correction stay on. Linear step counts are
+// fixed (min_steps = steps), as in the papers. One line of kCases adds a technique.
+//
+//   build/bench/bench_techniques --benchmark_repetitions=5 --benchmark_report_aggregates_only=true
+#include <benchmark/benchmark.h>
+
+#include <chrono>
+#include <map>
+#include <string>
+
+#include "render/render.h"
+#include "scene/builtin.h"
+
+namespace relief {
+namespace {
+
+struct Case {
+  const char* name;  // BM_Technique_<name>
+  const char* technique;
+  std::map<std::string, std::string> params;
+};
+
+const Case kCases[] = {
+    {"Normal", "normal", {}},  // baseline: no search
+    {"Parallax", "parallax", {}},
+    {"SteepParallax_32", "steep_parallax", {{"steps", "32"}}},
+    {"Pom_32", "pom", {{"steps", "32"}, {"min_steps", "32"}}},
+    {"Relief_10_5", "relief", {{"steps", "10"}, {"min_steps", "10"}, {"binary_steps", "5"}}},
+    {"Relief_32_8", "relief", {{"steps", "32"}, {"min_steps", "32"}, {"binary_steps", "8"}}},
+    {"Exact", "exact", {}},
+    {"Cone_15", "cone", {{"steps", "15"}}},  // GPU Gems 3 ch. 18, figure 18-1 settings
+    {"ConeQuad_15", "cone_quad", {{"steps", "15"}}},
+    {"RelaxedCone_15_6", "relaxed_cone", {{"steps", "15"}, {"binary_steps", "6"}}},
+};
+
+void run_technique(benchmark::State& state, const Case& c) {
+  Result<Scene> scene = make_builtin_scene("plane");
+  RenderOptions opt;
+  opt.width = 1024;
+  opt.height = 768;
+  opt.threads = 2;
+  opt.technique = c.technique;
+  opt.params = c.params;
+  Result<Plan> plan = make_plan(*scene, opt);
+  if (!scene.ok() || !plan.ok()) {
+    state.SkipWithError(plan.ok() ? "no scene" : plan.status().message().c_str());
+    return;
+  }
+  auto backend = make_cpu_backend(opt.threads);
+  (void)backend->render(*scene, *plan, opt);  // warm-up: derived state, caches
+  WorkCounters work;
+  double ns = 0.0;
+  for (auto _ : state) {
+    const auto t0 = std::chrono::steady_clock::now();
+    Result<RenderResult> r = backend->render(*scene, *plan, opt);
+    ns += std::chrono::duration<double, std::nano>(std::chrono::steady_clock::now() - t0).count();
+    if (!r.ok()) {
+      state.SkipWithError(r.status().message().c_str());
+      return;
+    }
+    for (const PassStats& p : r->passes) work += p.raster.work;
+    benchmark::DoNotOptimize(r->framebuffer.color.pixels.data());
+  }
+  const double f = static_cast<double>(work.fragments);
+  if (f == 0.0) return;
+  state.counters["ns_per_fragment"] = ns / f;
+  state.counters["fetches_per_fragment"] = static_cast<double>(work.texture_fetches) / f;
+  state.counters["steps_per_fragment"] = static_cast<double>(work.search_steps) / f;
+  state.counters["shadow_steps_per_fragment"] = static_cast<double>(work.shadow_steps) / f;
+  state.SetItemsProcessed(static_cast<int64_t>(work.fragments));
+}
+
+}  // namespace
+}  // namespace relief
+
+int main(int argc, char** argv) {
+  for (const relief::Case& c : relief::kCases)
+    benchmark::RegisterBenchmark((std::string("BM_Technique_") + c.name).c_str(),
+                                 [&c](benchmark::State& s) { relief::run_technique(s, c); })
+        ->Unit(benchmark::kMillisecond)
+        ->UseRealTime();
+  benchmark::Initialize(&argc, argv);
+  if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
+  benchmark::RunSpecifiedBenchmarks();
+  benchmark::Shutdown();
+  return 0;
+}
