@@ -6,6 +6,7 @@
 #include <cstring>
 
 #include "rasterizer/check.h"
+#include "rasterizer/simd.h"
 
 namespace relief {
 namespace {
@@ -34,10 +35,14 @@ struct SetupTriangle {
   int x0, y0, x1, y1;          // pixel bounding box, inclusive, inside the viewport
   int64_t a[3], b[3], c[3];    // edge functions E = a*px + b*py + c in fixed point
   int64_t bias[3];             // 0 for top-left edges, -1 otherwise
-  double inv_area;
-  float z[3], iw[3];
-  uint32_t vary[3];
+  uint32_t plane;              // offset in the frame's plane arena: (2 + nv) x {c, dx, dy}
 };
+
+// Attribute planes are evaluated as (c + dx * fx) + dy * fy with fx = px - x0, fy = py - y0 (whole
+// pixel offsets from the triangle's bounding-box origin): a pure function of the pixel, so the
+// image does not depend on tiles or threads. Plane 0 is depth, plane 1 is 1/w, then the varyings
+// premultiplied by 1/w.
+inline constexpr int kPlaneZ = 0, kPlaneIw = 1, kPlaneVary = 2;
 
 // Outcode bits against the clip volume (near, far) and the guard band.
 enum : uint32_t {
@@ -58,6 +63,10 @@ struct Rasterizer::Impl {
   std::vector<float> vary;                 // premultiplied varyings of every screen vertex
   std::vector<std::vector<uint32_t>> bins; // triangle indices per tile, submission order
   std::vector<float> clip_arena;           // varyings of vertices made by the clipper
+  std::vector<float> planes;               // attribute planes of every setup triangle
+  std::vector<uint32_t> codes;             // per-vertex scratch of setup_draw
+  std::vector<ScreenVertex> screen;
+  std::vector<uint8_t> valid;
   struct Worker {
     FragmentPacket packet;
     FragmentOutput out;
@@ -154,12 +163,30 @@ struct Rasterizer::Impl {
       const bool top_left = (a.y == b.y && b.x > a.x) || (b.y < a.y);
       t.bias[e] = top_left ? 0 : -1;
     }
-    t.inv_area = 1.0 / static_cast<double>(area);
-    for (int i = 0; i < 3; ++i) {
-      t.z[i] = v[i]->z;
-      t.iw[i] = v[i]->iw;
-      t.vary[i] = v[i]->vary;
-    }
+    // Plane equations in double, stored in float relative to the bounding box's first pixel.
+    const double X0 = v0.x / double(kSubOne), Y0 = v0.y / double(kSubOne);
+    const double X1 = v[1]->x / double(kSubOne) - X0, Y1 = v[1]->y / double(kSubOne) - Y0;
+    const double X2 = v[2]->x / double(kSubOne) - X0, Y2 = v[2]->y / double(kSubOne) - Y0;
+    const double inv_d = 1.0 / (X1 * Y2 - X2 * Y1);
+    const double rx = t.x0 + 0.5 - X0, ry = t.y0 + 0.5 - Y0;
+    const int nv = dc.num_varyings;
+    t.plane = static_cast<uint32_t>(planes.size());
+    planes.resize(planes.size() + size_t(kPlaneVary + nv) * 3);
+    float* out = &planes[t.plane];
+    auto plane = [&](double a0, double a1, double a2, float* o) {
+      const double d1 = a1 - a0, d2 = a2 - a0;
+      const double dx = (d1 * Y2 - d2 * Y1) * inv_d;
+      const double dy = (d2 * X1 - d1 * X2) * inv_d;
+      o[0] = static_cast<float>(a0 + dx * rx + dy * ry);
+      o[1] = static_cast<float>(dx);
+      o[2] = static_cast<float>(dy);
+    };
+    plane(v0.z, v[1]->z, v[2]->z, out + 3 * kPlaneZ);
+    plane(v0.iw, v[1]->iw, v[2]->iw, out + 3 * kPlaneIw);
+    const float* va = &vary[v0.vary];
+    const float* vb = &vary[v[1]->vary];
+    const float* vc = &vary[v[2]->vary];
+    for (int k = 0; k < nv; ++k) plane(va[k], vb[k], vc[k], out + 3 * (kPlaneVary + k));
     tris.push_back(t);
   }
 
@@ -222,9 +249,9 @@ struct Rasterizer::Impl {
     const int nv = dc.num_varyings;
     CHECK_GE(dc.varyings.size(), nvert * nv);
     // Per-vertex outcodes and screen vertices, computed once per vertex.
-    std::vector<uint32_t> codes(nvert);
-    std::vector<ScreenVertex> screen(nvert);
-    std::vector<uint8_t> valid(nvert);
+    codes.resize(nvert);
+    screen.resize(nvert);
+    valid.resize(nvert);
     for (size_t i = 0; i < nvert; ++i) {
       const glm::vec4& c = dc.clip[i];
       valid[i] = finite4(c);
@@ -272,7 +299,7 @@ struct Rasterizer::Impl {
     stats.triangles_binned = tris.size();
   }
 
-  void flush(Worker& w, Framebuffer& fb, const DrawCall& dc, const SetupTriangle& t) {
+  void flush(Worker& w, Framebuffer& fb, const DrawCall& dc) {
     FragmentPacket& p = w.packet;
     if (p.num_quads == 0) return;
     FragmentOutput& o = w.out;
@@ -321,8 +348,24 @@ struct Rasterizer::Impl {
     p.num_quads = 0;
   }
 
-  void raster_triangle(Worker& w, Framebuffer& fb, const DrawCall& dc, const SetupTriangle& t,
-                       int tx0, int ty0, int tx1, int ty1) {
+  // Coverage of the quad whose top-left pixel has edge values e[k]: bit l set when lane l is
+  // inside all three edges (top-left rule through the bias).
+  static uint8_t quad_mask(const SetupTriangle& t, const int64_t e[3]) {
+    uint32_t out = 0;
+    for (int k = 0; k < 3; ++k) {
+      const int64_t v = e[k] + t.bias[k], da = t.a[k] * kSubOne, db = t.b[k] * kSubOne;
+      out |= uint32_t(v < 0) | uint32_t(v + da < 0) << 1 | uint32_t(v + db < 0) << 2 |
+             uint32_t(v + da + db < 0) << 3;
+    }
+    return static_cast<uint8_t>(~out & 0xf);
+  }
+
+  // Walks the part of triangle t inside the tile [tx0, tx1] x [ty0, ty1], two quads (8 lanes) at
+  // a time: coverage from the exact edge functions (skipped when the whole rectangle is inside),
+  // depth and varyings from the float planes, early depth test, packets of up to 16 quads.
+  [[gnu::always_inline]] inline void raster_triangle(Worker& w, Framebuffer& fb, const DrawCall& dc,
+                                                     const SetupTriangle& t, int tx0, int ty0,
+                                                     int tx1, int ty1) {
     const int nv = dc.num_varyings;
     FragmentPacket& p = w.packet;
     p.num_quads = 0;
@@ -330,61 +373,128 @@ struct Rasterizer::Impl {
     p.front_facing = t.front_facing;
     const int x0 = std::max(t.x0, tx0) & ~1, y0 = std::max(t.y0, ty0) & ~1;
     const int x1 = std::min(t.x1, tx1), y1 = std::min(t.y1, ty1);
+    if (x0 > x1 || y0 > y1) return;
+    // The pixel rectangle is inside every edge when its four corner pixels are; outside when all
+    // four are outside one edge.
+    bool inside = true;
+    for (int k = 0; k < 3; ++k) {
+      int outside = 0;
+      for (int c = 0; c < 4; ++c) {
+        const int64_t px = int64_t(c & 1 ? x1 : x0) * kSubOne + kHalf;
+        const int64_t py = int64_t(c & 2 ? y1 : y0) * kSubOne + kHalf;
+        outside += t.a[k] * px + t.b[k] * py + t.c[k] + t.bias[k] < 0;
+      }
+      if (outside == 4) return;
+      inside &= outside == 0;
+    }
     const bool early = dc.depth_test != DepthTest::kLate;
-    const float* va = &vary[t.vary[0]];
-    const float* vb = &vary[t.vary[1]];
-    const float* vc = &vary[t.vary[2]];
+    const float* pl = &planes[t.plane];
+    const v8f kDx = {0, 1, 0, 1, 2, 3, 2, 3}, kDy = {0, 0, 1, 1, 0, 0, 1, 1};
+    const v8i kHigh = {4, 5, 6, 7, 4, 5, 6, 7};
+    const int dw = fb.depth.width;
+    float* depth = fb.depth.values.data();
     for (int qy = y0; qy <= y1; qy += 2) {
-      const int64_t py0 = int64_t(qy) * kSubOne + kHalf;
-      for (int qx = x0; qx <= x1; qx += 2) {
-        const int64_t px0 = int64_t(qx) * kSubOne + kHalf;
-        int64_t e[3][4];
-        uint8_t mask = 0xf;
-        for (int k = 0; k < 3; ++k) {
-          const int64_t base = t.a[k] * px0 + t.b[k] * py0 + t.c[k];
-          e[k][0] = base;
-          e[k][1] = base + t.a[k] * kSubOne;
-          e[k][2] = base + t.b[k] * kSubOne;
-          e[k][3] = base + (t.a[k] + t.b[k]) * kSubOne;
-          for (int l = 0; l < 4; ++l)
-            if (e[k][l] + t.bias[k] < 0) mask &= ~(1u << l);
-        }
-        if (qx + 1 >= fb.width) mask &= 0x5;
-        if (qy + 1 >= fb.height) mask &= 0x3;
-        if (!mask) continue;
-        const int q = p.num_quads;
-        const int base_lane = q * 4;
-        for (int l = 0; l < 4; ++l) {
-          const int lane = base_lane + l;
-          const float b0 = static_cast<float>(double(e[0][l]) * t.inv_area);
-          const float b1 = static_cast<float>(double(e[1][l]) * t.inv_area);
-          const float b2 = static_cast<float>(double(e[2][l]) * t.inv_area);
-          const float z = b0 * t.z[0] + b1 * t.z[1] + b2 * t.z[2];
-          float iw = b0 * t.iw[0] + b1 * t.iw[1] + b2 * t.iw[2];
-          iw = std::max(iw, 1e-30f);  // helper lanes far outside may extrapolate past the horizon
-          const float wv = 1.0f / iw;
-          p.frag_x[lane] = static_cast<float>(qx + (l & 1)) + 0.5f;
-          p.frag_y[lane] = static_cast<float>(qy + (l >> 1)) + 0.5f;
-          p.frag_z[lane] = std::clamp(z, 0.0f, 1.0f);
-          p.inv_w[lane] = iw;
-          for (int k = 0; k < nv; ++k)
-            p.varyings[k][lane] = (b0 * va[k] + b1 * vb[k] + b2 * vc[k]) * wv;
-        }
-        if (early) {
-          for (int l = 0; l < 4; ++l) {
-            if (!((mask >> l) & 1)) continue;
-            const int x = qx + (l & 1), y = qy + (l >> 1);
-            if (!(p.frag_z[base_lane + l] > fb.depth.at(x, y))) mask &= ~(1u << l);
+      const uint8_t rowm = qy + 1 <= y1 ? 0xf : 0x3;
+      int64_t erow[3];
+      for (int k = 0; k < 3; ++k)
+        erow[k] = t.a[k] * (int64_t(x0) * kSubOne + kHalf) +
+                  t.b[k] * (int64_t(qy) * kSubOne + kHalf) + t.c[k];
+      const v8f fy = static_cast<float>(qy - t.y0) + kDy;
+      for (int qx = x0; qx <= x1; qx += 4) {
+        const bool has_b = qx + 2 <= x1;
+        uint8_t m0 = rowm & (qx + 1 <= x1 ? 0xf : 0x5);
+        uint8_t m1 = has_b ? rowm & (qx + 3 <= x1 ? 0xf : 0x5) : 0;
+        if (!inside) {
+          int64_t e[3];
+          for (int k = 0; k < 3; ++k) e[k] = erow[k] + t.a[k] * int64_t(qx - x0) * kSubOne;
+          m0 &= quad_mask(t, e);
+          if (has_b) {
+            for (int k = 0; k < 3; ++k) e[k] += t.a[k] * 2 * kSubOne;
+            m1 &= quad_mask(t, e);
           }
-          if (!mask) continue;
+          if (!(m0 | m1)) continue;
         }
-        p.coverage[q] = mask;
-        w.qx[q] = static_cast<int16_t>(qx);
-        w.qy[q] = static_cast<int16_t>(qy);
-        if (++p.num_quads == kPacketQuads) flush(w, fb, dc, t);
+        const v8f fx = static_cast<float>(qx - t.x0) + kDx;
+        v8f z = (pl[0] + pl[1] * fx) + pl[2] * fy;
+        z = z < 0.0f ? 0.0f : z;
+        z = z > 1.0f ? 1.0f : z;
+        if (early) {
+          const float* r0 = depth + size_t(qy) * dw + qx;
+          const float* r1 = r0 + dw;
+          v8f d;
+          if (qx + 3 < dw && qy + 1 < fb.depth.height) {
+            d = v8f{r0[0], r0[1], r1[0], r1[1], r0[2], r0[3], r1[2], r1[3]};
+          } else {
+            for (int l = 0; l < 8; ++l) {
+              const int x = qx + (l & 1) + (l >> 2) * 2, y = qy + ((l >> 1) & 1);
+              d[l] = x < dw && y < fb.depth.height ? depth[size_t(y) * dw + x] : 1.0f;
+            }
+          }
+          const v8i pass = z > d;
+          uint8_t bits0 = 0, bits1 = 0;
+          for (int l = 0; l < 4; ++l) {
+            bits0 |= (pass[l] & 1) << l;
+            bits1 |= (pass[l + 4] & 1) << l;
+          }
+          m0 &= bits0;
+          m1 &= bits1;
+          if (!(m0 | m1)) continue;
+        }
+        v8f iw = (pl[3] + pl[4] * fx) + pl[5] * fy;
+        iw = iw < 1e-30f ? 1e-30f : iw;  // helper lanes far outside may pass the horizon
+        const v8f wv = 1.0f / iw;
+        if (p.num_quads > kPacketQuads - 2) flush(w, fb, dc);
+        const int q = p.num_quads;
+        const bool shift = m0 == 0;  // only the right quad: move lanes 4..7 down
+        const size_t lane0 = size_t(q) * 4;
+        auto put = [&](float* dst, v8f v) {
+          if (shift) v = __builtin_shuffle(v, kHigh);
+          std::memcpy(dst + lane0, &v, sizeof v);
+        };
+        put(p.frag_x, static_cast<float>(qx) + 0.5f + kDx);
+        put(p.frag_y, static_cast<float>(qy) + 0.5f + kDy);
+        put(p.frag_z, z);
+        put(p.inv_w, iw);
+        for (int k = 0; k < nv; ++k) {
+          const float* c = pl + 3 * (kPlaneVary + k);
+          put(p.varyings[k], ((c[0] + c[1] * fx) + c[2] * fy) * wv);
+        }
+        if (m0) {
+          p.coverage[q] = m0;
+          w.qx[q] = static_cast<int16_t>(qx);
+          w.qy[q] = static_cast<int16_t>(qy);
+        }
+        if (m1) {
+          const int q1 = m0 ? q + 1 : q;
+          p.coverage[q1] = m1;
+          w.qx[q1] = static_cast<int16_t>(qx + 2);
+          w.qy[q1] = static_cast<int16_t>(qy);
+        }
+        p.num_quads += (m0 != 0) + (m1 != 0);
       }
     }
-    flush(w, fb, dc, t);
+    flush(w, fb, dc);
+  }
+
+  // One tile: its triangles in submission order. Compiled for the baseline and for AVX2.
+  [[gnu::always_inline]] inline void raster_tile_body(Worker& w, Framebuffer& fb,
+                                                      std::span<const DrawCall> draws, int tile) {
+    const int tx = tile % tiles_x, ty = tile / tiles_x;
+    const int x0 = tx * this->tile, y0 = ty * this->tile;
+    const int x1 = std::min(x0 + this->tile, fb.width) - 1;
+    const int y1 = std::min(y0 + this->tile, fb.height) - 1;
+    for (uint32_t ti : bins[tile]) {
+      const SetupTriangle& t = tris[ti];
+      raster_triangle(w, fb, draws[t.draw], t, x0, y0, x1, y1);
+    }
+  }
+  RELIEF_BASE_ENTRY void raster_tile_base(Worker& w, Framebuffer& fb,
+                                          std::span<const DrawCall> draws, int tile) {
+    raster_tile_body(w, fb, draws, tile);
+  }
+  RELIEF_AVX2_ENTRY void raster_tile_avx2(Worker& w, Framebuffer& fb,
+                                          std::span<const DrawCall> draws, int tile) {
+    raster_tile_body(w, fb, draws, tile);
   }
 };
 
@@ -411,6 +521,7 @@ RasterStats Rasterizer::draw(Framebuffer& fb, std::span<const DrawCall> draws) {
   im.tris.clear();
   im.vary.clear();
   im.clip_arena.clear();
+  im.planes.clear();
   im.bins.resize(size_t(im.tiles_x) * im.tiles_y);
   for (size_t d = 0; d < draws.size(); ++d) im.setup_draw(static_cast<int>(d), draws[d]);
   im.bin();
@@ -422,15 +533,13 @@ RasterStats Rasterizer::draw(Framebuffer& fb, std::span<const DrawCall> draws) {
     w->counters = WorkCounters{};
     w->quads = 0;
   }
+  const bool avx2 = simd_avx2();
   pool_.run(im.tiles_x * im.tiles_y, [&](int tile, int worker) {
     Impl::Worker& w = *im.workers[worker];
-    const int tx = tile % im.tiles_x, ty = tile / im.tiles_x;
-    const int x0 = tx * im.tile, y0 = ty * im.tile;
-    const int x1 = std::min(x0 + im.tile, fb.width) - 1, y1 = std::min(y0 + im.tile, fb.height) - 1;
-    for (uint32_t ti : im.bins[tile]) {
-      const SetupTriangle& t = im.tris[ti];
-      im.raster_triangle(w, fb, draws[t.draw], t, x0, y0, x1, y1);
-    }
+    if (avx2)
+      im.raster_tile_avx2(w, fb, draws, tile);
+    else
+      im.raster_tile_base(w, fb, draws, tile);
   });
   for (auto& w : im.workers) {
     im.stats.work += w->counters;
