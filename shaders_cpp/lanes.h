@@ -11,10 +11,9 @@
 #include <cstdint>
 #include <cstring>
 
-namespace relief {
+#include "rasterizer/simd.h"  // v8f, v8i
 
-typedef float v8f __attribute__((vector_size(32)));
-typedef int32_t v8i __attribute__((vector_size(32)));
+namespace relief {
 
 struct M8 {
   v8i v;
@@ -25,6 +24,27 @@ struct M8 {
   M8& operator&=(M8 b) { v &= b.v; return *this; }
   M8& operator|=(M8 b) { v |= b.v; return *this; }
   bool operator[](int i) const { return v[i] != 0; }
+};
+
+// Eight int32 lanes: the integer companion of F8 (texel addresses, exponent bits).
+struct I8 {
+  v8i v;
+  I8() : v{} {}
+  I8(int32_t s) : v{s, s, s, s, s, s, s, s} {}  // NOLINT: broadcast
+  explicit I8(v8i x) : v(x) {}
+  int32_t operator[](int i) const { return v[i]; }
+  friend I8 operator+(I8 a, I8 b) { return I8(a.v + b.v); }
+  friend I8 operator-(I8 a, I8 b) { return I8(a.v - b.v); }
+  friend I8 operator*(I8 a, I8 b) { return I8(a.v * b.v); }
+  friend I8 operator&(I8 a, I8 b) { return I8(a.v & b.v); }
+  friend I8 operator|(I8 a, I8 b) { return I8(a.v | b.v); }
+  friend I8 operator<<(I8 a, int n) { return I8(a.v << n); }
+  friend I8 operator>>(I8 a, int n) { return I8(a.v >> n); }
+  friend I8 operator>>(I8 a, I8 n) { return I8(a.v >> n.v); }
+  friend M8 operator<(I8 a, I8 b) { return {a.v < b.v}; }
+  friend M8 operator>(I8 a, I8 b) { return {a.v > b.v}; }
+  friend M8 operator>=(I8 a, I8 b) { return {a.v >= b.v}; }
+  friend M8 operator==(I8 a, I8 b) { return {a.v == b.v}; }
 };
 
 struct F8 {
@@ -61,13 +81,16 @@ struct F8 {
 template <class F> struct LaneTraits;
 template <> struct LaneTraits<float> {
   using Mask = bool;
+  using Int = int32_t;
   static constexpr int kWidth = 1;
 };
 template <> struct LaneTraits<F8> {
   using Mask = M8;
+  using Int = I8;
   static constexpr int kWidth = 8;
 };
 template <class F> using mask_t = typename LaneTraits<F>::Mask;
+template <class F> using int_t = typename LaneTraits<F>::Int;
 template <class F> inline constexpr int lane_width = LaneTraits<F>::kWidth;
 
 // ---- scalar ----
@@ -87,6 +110,23 @@ inline float vsqrt(float a) { return std::sqrt(a); }
 inline float vfloor(float a) { return std::floor(a); }
 inline float load_lanes(const float* p, float) { return *p; }
 inline void store_lanes(float* p, float x) { *p = x; }
+inline int32_t select(bool m, int32_t a, int32_t b) { return m ? a : b; }
+inline int32_t vmin(int32_t a, int32_t b) { return b < a ? b : a; }
+inline int32_t vmax(int32_t a, int32_t b) { return a < b ? b : a; }
+inline int32_t bits_of(float x) {
+  int32_t b;
+  std::memcpy(&b, &x, 4);
+  return b;
+}
+inline float float_of_bits(int32_t b) {
+  float x;
+  std::memcpy(&x, &b, 4);
+  return x;
+}
+inline float to_float(int32_t i) { return static_cast<float>(i); }
+inline int32_t lane(int32_t x, int) { return x; }
+inline void set_lane(int32_t& x, int, int32_t v) { x = v; }
+inline int32_t trunc_to_int(float x) { return static_cast<int32_t>(x); }  // |x| < 2^31
 
 // ---- 8 lanes ----
 inline F8 select(M8 m, F8 a, F8 b) { return F8(m.v ? a.v : b.v); }
@@ -127,6 +167,23 @@ inline F8 vfloor(F8 a) {
 }
 inline F8 load_lanes(const float* p, F8) { return F8::load(p); }
 inline void store_lanes(float* p, F8 x) { x.store(p); }
+inline I8 select(M8 m, I8 a, I8 b) { return I8(m.v ? a.v : b.v); }
+inline I8 vmin(I8 a, I8 b) { return I8(b.v < a.v ? b.v : a.v); }
+inline I8 vmax(I8 a, I8 b) { return I8(a.v < b.v ? b.v : a.v); }
+inline I8 bits_of(F8 x) {
+  I8 b;
+  std::memcpy(&b.v, &x.v, sizeof b.v);
+  return b;
+}
+inline F8 float_of_bits(I8 b) {
+  F8 x;
+  std::memcpy(&x.v, &b.v, sizeof x.v);
+  return x;
+}
+inline int32_t lane(I8 x, int i) { return x.v[i]; }
+inline void set_lane(I8& x, int i, int32_t v) { x.v[i] = v; }
+inline F8 to_float(I8 i) { return F8(__builtin_convertvector(i.v, v8f)); }
+inline I8 trunc_to_int(F8 x) { return I8(__builtin_convertvector(x.v, v8i)); }
 
 // ---- generic helpers ----
 template <class F> inline F clamp(F x, F lo, F hi) { return vmin(vmax(x, lo), hi); }
@@ -134,6 +191,47 @@ template <class F> inline F mix(F a, F b, F t) { return a + (b - a) * t; }
 template <class F> inline F saturate(F x) { return clamp<F>(x, F(0.0f), F(1.0f)); }
 template <class F> inline mask_t<F> true_mask() { return F(0.0f) == F(0.0f); }
 template <class F> inline mask_t<F> false_mask() { return F(0.0f) != F(0.0f); }
+
+// log2 of x > 0 (normal numbers; smaller inputs read as FLT_MIN), absolute error below 1e-7:
+// exponent bits plus an odd series of atanh over the mantissa in [sqrt(1/2), sqrt(2)). Written
+// over F, so float and F8 give the same bits.
+template <class F> inline F vlog2(F x) {
+  using I = int_t<F>;
+  const I bits = bits_of(vmax(x, F(1.17549435e-38f)));
+  I e = ((bits >> 23) & I(0xff)) - I(127);
+  F m = float_of_bits((bits & I(0x7fffff)) | I(0x3f800000));  // [1, 2)
+  const mask_t<F> big = m > F(1.41421356f);
+  m = select(big, m * F(0.5f), m);
+  e = select(big, e + I(1), e);
+  const F t = (m - F(1.0f)) / (m + F(1.0f));  // |t| <= 0.1716
+  const F t2 = t * t;
+  const F series =
+      t * (F(2.0f) + t2 * (F(0.666666667f) + t2 * (F(0.4f) + t2 * (F(0.285714286f) +
+                                                                      t2 * F(0.222222222f)))));
+  return to_float(e) + series * F(1.44269504f);  // ln -> log2
+}
+
+// 2^y, relative error below 3e-7 (Cephes exp2f: y = n + f, |f| <= 1/2, 2^f = 1 + f P(f)), exact
+// at whole y; y below -126 gives 0, above 127 gives 2^127 (finite), NaN reads as 0.
+template <class F> inline F vexp2(F y) {
+  using I = int_t<F>;
+  const mask_t<F> tiny = y < F(-126.0f);
+  y = clamp<F>(select(y == y, y, F(0.0f)), F(-126.0f), F(127.0f));
+  const F n = vfloor(y + F(0.5f));
+  const F f = y - n;
+  const F p = F(1.0f) + f * (F(6.931472028550421e-1f) + f * (F(2.402264791363012e-1f) +
+              f * (F(5.550332471162809e-2f) + f * (F(9.618437357674640e-3f) +
+              f * (F(1.339887440266574e-3f) + f * F(1.535336188319500e-4f))))));
+  const F scale = float_of_bits((trunc_to_int(n) + I(127)) << 23);
+  return select(tiny, F(0.0f), p * scale);
+}
+
+// x^e for x >= 0 (GLSL pow's domain): exp2(e * log2(x)), relative error below
+// 3e-7 * max(1, |e log2 x|) (float rounding of the exponent); 0^e is 0 for e > 0, 1 for e == 0.
+template <class F> inline F vpow_fast(F x, float e) {
+  const F r = vexp2(F(e) * vlog2(x));
+  return select(x > F(0.0f), r, F(e == 0.0f ? 1.0f : 0.0f));
+}
 
 // Applies a scalar function lane by lane: the bridge to per-lane work such as texture fetches.
 template <class Fn> inline float per_lane(float, Fn&& fn) { return fn(0); }

@@ -47,9 +47,9 @@ inline LightSample<F> light_sample(const LightUniform& light, V3<F> p) {
 }
 
 inline float pow_lane(float x, float e) { return std::pow(x, e); }
-template <class F> inline F vpow(F x, float e) {
-  return per_lane(x, [&](int i) { return pow_lane(lane(x, i), e); });
-}
+// pow for the specular lobe: vpow_fast (shaders_cpp/lanes.h), written over F so the scalar and F8
+// paths agree bit for bit; relative error 3e-7 * max(1, |e log2 x|) against std::pow.
+template <class F> inline F vpow(F x, float e) { return vpow_fast(x, e); }
 
 // Shades point p with unit normal n, seen from the eye along unit v (point -> eye).
 // visibility(i, l) returns the fraction of light i reaching p along l (self-shadow, shadow maps).
