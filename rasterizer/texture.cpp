@@ -378,26 +378,7 @@ inline float scaled_coord(float u, int size, float offset) {
   return std::min(std::max(x, -kMaxCoord), kMaxCoord);
 }
 
-// GL wrap of an integer texel coordinate (OpenGL 4.5, table 8.20).
-inline int wrap_coord(int i, int size, Wrap w) {
-  if (static_cast<unsigned>(i) < static_cast<unsigned>(size)) return i;
-  switch (w) {
-    case Wrap::kRepeat: {
-      const int m = i % size;
-      return m < 0 ? m + size : m;
-    }
-    case Wrap::kClamp:
-      return i < 0 ? 0 : size - 1;
-    case Wrap::kMirror: {
-      int m = i % (2 * size);
-      if (m < 0) m += 2 * size;
-      const int a = m - size;
-      const int mirrored = a >= 0 ? a : -(1 + a);
-      return (size - 1) - mirrored;
-    }
-  }
-  return 0;
-}
+inline int wrap_coord(int i, int size, Wrap w) { return wrap_texel(i, size, w); }
 
 struct Level {
   const uint8_t* data;
@@ -502,6 +483,9 @@ inline float footprint(const Texture& t, glm::vec2 d) {
 }
 
 }  // namespace
+
+const float* unorm8_table() { return tables().unorm8.data(); }
+const float* srgb8_table() { return tables().srgb8.data(); }
 
 // ---------------------------------------------------------------------------------------------
 // Texture.

@@ -83,6 +83,31 @@ class Texture {
 
 using TexturePtr = std::shared_ptr<const Texture>;
 
+// Decode tables of 8-bit channels: unorm (i / 255) and sRGB (to linear), 256 floats each.
+const float* unorm8_table();
+const float* srgb8_table();
+
+// GL wrap of an integer texel coordinate (OpenGL 4.5, table 8.20): the result is in [0, size).
+inline int wrap_texel(int i, int size, Wrap w) {
+  if (static_cast<unsigned>(i) < static_cast<unsigned>(size)) return i;
+  switch (w) {
+    case Wrap::kRepeat: {
+      const int m = i % size;
+      return m < 0 ? m + size : m;
+    }
+    case Wrap::kClamp:
+      return i < 0 ? 0 : size - 1;
+    case Wrap::kMirror: {
+      int m = i % (2 * size);
+      if (m < 0) m += 2 * size;
+      const int a = m - size;
+      const int mirrored = a >= 0 ? a : -(1 + a);
+      return (size - 1) - mirrored;
+    }
+  }
+  return 0;
+}
+
 // LOD (before clamping) from screen-space derivatives of uv, as GL computes it.
 float compute_lod(const Texture& t, glm::vec2 duv_dx, glm::vec2 duv_dy);
 

@@ -1,5 +1,12 @@
 // Texture sampling over lanes: the GLSL texture(), textureLod() and textureGrad() of kernels.
-// Each lane calls the scalar sampler (rasterizer/texture.h), so float and F8 agree exactly.
+//
+// 8-bit textures (R8, RG8, RGBA8) with bilinear, trilinear or (without derivatives) anisotropic
+// filtering and repeat or clamp wrapping take a path written once over the lane type F: level
+// choice, texel coordinates, weights and lerps run on all lanes at once; only the texel loads (and
+// sRGB table lookups) go lane by lane. It follows rasterizer/texture.cpp operation for operation
+// (GL 4.5, section 8.14), so textureLod equals sample_lod bit for bit; textureGrad takes its LOD
+// from vlog2 (lanes.h), within 1e-7 of std::log2. Other textures and filters call the scalar
+// sampler per lane. float and F8 agree bit for bit either way.
 #pragma once
 
 #include "rasterizer/texture.h"
@@ -7,13 +14,165 @@
 
 namespace relief {
 
-template <class F> struct V4 {
+template <class F>
+struct V4 {
   F x, y, z, w;
   V3<F> xyz() const { return {x, y, z}; }
 };
 
+namespace detail {
+
+// Whether the lane-parallel path serves this texture and sampler (textureLod rules).
+inline bool vector_sampling_ok(const Texture& t, const SamplerState& s) {
+  const TexFormat f = t.format();
+  const bool bytes = f == TexFormat::kR8 || f == TexFormat::kRG8 || f == TexFormat::kRGBA8;
+  const bool wrap_u = s.wrap_u == Wrap::kClamp || s.wrap_u == Wrap::kRepeat;
+  const bool wrap_v = s.wrap_v == Wrap::kClamp || s.wrap_v == Wrap::kRepeat;
+  return bytes && s.filter != Filter::kNearest && wrap_u && wrap_v && !t.empty();
+}
+
+// Wraps integer texel coordinates; `pow2` says every level size is a power of two.
+template <class I>
+inline I wrap_lanes(I i, I size, Wrap w, bool pow2) {
+  if (w == Wrap::kClamp) return vmin(vmax(i, I(0)), size - I(1));
+  if (pow2) return i & (size - I(1));  // two's complement: repeat for negative i too
+  I r = i;
+  for (int k = 0; k < lane_width<decltype(to_float(i))>; ++k)
+    set_lane(r, k, wrap_texel(lane(i, k), lane(size, k), w));
+  return r;
+}
+
+// u * size - 0.5 with NaN read as 0, kept in int range (texture.cpp's scaled_coord).
+template <class F>
+inline F texel_coord(F u, F size) {
+  const F x = select(u == u, u, F(0.0f)) * size - F(0.5f);
+  return vmin(vmax(x, F(-67108864.0f)), F(67108864.0f));
+}
+
+// Channel c (0..3) of 8-bit texels packed little-endian in `word`, decoded like texture.cpp.
+template <int kChannels, class F>
+inline F decode8(int_t<F> word, int c, const float* lut, bool srgb) {
+  using I = int_t<F>;
+  if (c >= kChannels) return F(c == 3 ? 1.0f : 0.0f);
+  const I byte = (word >> (8 * c)) & I(0xff);
+  if (!srgb || c == 3) return to_float(byte) / F(255.0f);  // == unorm8_table (tested)
+  F r;
+  for (int k = 0; k < lane_width<F>; ++k) set_lane(r, k, lut[lane(byte, k)]);
+  return r;
+}
+
+// GL bilinear at per-lane mip level `lvl` of an 8-bit texture with kChannels channels.
+template <int kChannels, class F>
+inline V4<F> bilinear8(const Texture& t, const SamplerState& s, V2<F> uv, int_t<F> lvl, bool pow2,
+                       int channels_used) {
+  using I = int_t<F>;
+  const I w = vmax(I(t.width()) >> lvl, I(1));
+  const I h = vmax(I(t.height()) >> lvl, I(1));
+  const F xf = texel_coord(uv.x, to_float(w));
+  const F yf = texel_coord(uv.y, to_float(h));
+  const F fx = vfloor(xf), fy = vfloor(yf);
+  const F a = xf - fx, b = yf - fy;
+  const I ix = trunc_to_int(fx), iy = trunc_to_int(fy);
+  const I x0 = wrap_lanes(ix, w, s.wrap_u, pow2), x1 = wrap_lanes(ix + I(1), w, s.wrap_u, pow2);
+  const I y0 = wrap_lanes(iy, h, s.wrap_v, pow2), y1 = wrap_lanes(iy + I(1), h, s.wrap_v, pow2);
+  const I r0 = y0 * w, r1 = y1 * w;
+  I t00, t10, t01, t11;
+  for (int k = 0; k < lane_width<F>; ++k) {
+    const uint8_t* d = t.level(lane(lvl, k)).data.data();
+    auto load = [&](int32_t texel) {
+      uint32_t v = 0;
+      std::memcpy(&v, d + size_t(texel) * kChannels, kChannels);
+      return static_cast<int32_t>(v);
+    };
+    set_lane(t00, k, load(lane(r0, k) + lane(x0, k)));
+    set_lane(t10, k, load(lane(r0, k) + lane(x1, k)));
+    set_lane(t01, k, load(lane(r1, k) + lane(x0, k)));
+    set_lane(t11, k, load(lane(r1, k) + lane(x1, k)));
+  }
+  const bool srgb = t.color_space() == ColorSpace::kSRGB;
+  const float* lut = srgb ? srgb8_table() : unorm8_table();
+  F out[4];
+  for (int c = 0; c < 4; ++c) {
+    if (c >= channels_used) {
+      out[c] = F(0.0f);
+      continue;
+    }
+    const F c00 = decode8<kChannels, F>(t00, c, lut, srgb);
+    const F c10 = decode8<kChannels, F>(t10, c, lut, srgb);
+    const F c01 = decode8<kChannels, F>(t01, c, lut, srgb);
+    const F c11 = decode8<kChannels, F>(t11, c, lut, srgb);
+    const F top = c00 + a * (c10 - c00);
+    const F bottom = c01 + a * (c11 - c01);
+    out[c] = top + b * (bottom - top);
+  }
+  return {out[0], out[1], out[2], out[3]};
+}
+
+template <class F>
+inline V4<F> lerp4(V4<F> p, V4<F> q, F f) {
+  return {p.x + f * (q.x - p.x), p.y + f * (q.y - p.y), p.z + f * (q.z - p.z),
+          p.w + f * (q.w - p.w)};
+}
+
+// textureLod on the lane-parallel path (texture.cpp's sample_lod_impl, lane by lane).
+template <int kChannels, class F>
+inline V4<F> sample_lod8(const Texture& t, const SamplerState& s, V2<F> uv, F lod,
+                         int channels_used) {
+  using I = int_t<F>;
+  const int q = t.levels() - 1;
+  const bool pow2 = (t.width() & (t.width() - 1)) == 0 && (t.height() & (t.height() - 1)) == 0;
+  lod = vmin(vmax(select(lod == lod, lod, F(0.0f)), F(-64.0f)), F(64.0f));
+  const mask_t<F> base = lod <= F(0.0f);
+  if (q == 0) return bilinear8<kChannels, F>(t, s, uv, I(0), pow2, channels_used);
+  if (s.filter == Filter::kBilinear) {
+    // LINEAR_MIPMAP_NEAREST: the level nearest to lod.
+    const F fq = F(static_cast<float>(q));
+    I lvl = vmin(trunc_to_int(-vfloor(-(lod + F(0.5f)))) - I(1), I(q));  // ceil
+    lvl = select(lod <= F(0.5f), I(0), select(lod > fq + F(0.5f), I(q), lvl));
+    return bilinear8<kChannels, F>(t, s, uv, lvl, pow2, channels_used);
+  }
+  // Trilinear: the two levels around lod; f = 0 where one level is exact.
+  const F fq = F(static_cast<float>(q));
+  const F fl = vfloor(lod);
+  const mask_t<F> top = lod >= fq;
+  const I d1 = select(base, I(0), select(top, I(q), trunc_to_int(vmax(fl, F(0.0f)))));
+  const F f = select(base | top, F(0.0f), lod - fl);
+  const V4<F> t1 = bilinear8<kChannels, F>(t, s, uv, d1, pow2, channels_used);
+  if (none(f != F(0.0f))) return t1;
+  const V4<F> t2 = bilinear8<kChannels, F>(t, s, uv, vmin(d1 + I(1), I(q)), pow2, channels_used);
+  return lerp4(t1, t2, f);
+}
+
+template <class F>
+inline V4<F> sample_lod_lanes(const Texture& t, const SamplerState& s, V2<F> uv, F lod,
+                              int channels_used) {
+  switch (t.format()) {
+    case TexFormat::kR8:
+      return sample_lod8<1, F>(t, s, uv, lod, channels_used);
+    case TexFormat::kRG8:
+      return sample_lod8<2, F>(t, s, uv, lod, channels_used);
+    default:
+      return sample_lod8<4, F>(t, s, uv, lod, channels_used);
+  }
+}
+
+// GL's LOD from uv derivatives (texture.cpp's compute_lod) with vlog2.
+template <class F>
+inline F lod_from_grad(const Texture& t, V2<F> dx, V2<F> dy) {
+  const F w(static_cast<float>(t.width())), h(static_cast<float>(t.height()));
+  const F ax = dx.x * w, ay = dx.y * h, bx = dy.x * w, by = dy.y * h;
+  const F px = vsqrt(ax * ax + ay * ay), py = vsqrt(bx * bx + by * by);
+  const F rho = vmax(px, py);
+  const F lod = vmin(vmax(vlog2(rho), F(-64.0f)), F(64.0f));
+  return select(rho == rho, select(rho <= F(0.0f), F(-64.0f), lod), F(0.0f));
+}
+
+}  // namespace detail
+
 template <class F>
 inline V4<F> texture_grad(const Texture& t, const SamplerState& s, V2<F> uv, V2<F> dx, V2<F> dy) {
+  if (s.filter != Filter::kAnisotropic && detail::vector_sampling_ok(t, s))
+    return detail::sample_lod_lanes(t, s, uv, detail::lod_from_grad(t, dx, dy), 4);
   V4<F> r;
   for (int i = 0; i < lane_width<F>; ++i) {
     const glm::vec4 c = sample_grad(t, s, {lane(uv.x, i), lane(uv.y, i)},
@@ -28,6 +187,7 @@ inline V4<F> texture_grad(const Texture& t, const SamplerState& s, V2<F> uv, V2<
 
 template <class F>
 inline V4<F> texture_lod(const Texture& t, const SamplerState& s, V2<F> uv, F lod) {
+  if (detail::vector_sampling_ok(t, s)) return detail::sample_lod_lanes(t, s, uv, lod, 4);
   V4<F> r;
   for (int i = 0; i < lane_width<F>; ++i) {
     const glm::vec4 c = sample_lod(t, s, {lane(uv.x, i), lane(uv.y, i)}, lane(lod, i));
@@ -41,6 +201,7 @@ inline V4<F> texture_lod(const Texture& t, const SamplerState& s, V2<F> uv, F lo
 
 template <class F>
 inline F texture_r_lod(const Texture& t, const SamplerState& s, V2<F> uv, F lod) {
+  if (detail::vector_sampling_ok(t, s)) return detail::sample_lod_lanes(t, s, uv, lod, 1).x;
   return per_lane(uv.x, [&](int i) {
     return sample_r_lod(t, s, {lane(uv.x, i), lane(uv.y, i)}, lane(lod, i));
   });
