@@ -34,7 +34,7 @@ struct FlatKernel {
   }
 };
 
-ShadeFn select_flat(EffectMask) { return &shade_packet<FlatKernel>; }
+ShadeFn select_flat(EffectMask) { return &shade_packet_simd<FlatKernel>; }
 DepthOutput depth_flat(EffectMask) { return DepthOutput::kNone; }
 
 }  // namespace

@@ -51,7 +51,7 @@ struct NormalKernel {
   }
 };
 
-ShadeFn select_normal(EffectMask) { return &shade_packet<NormalKernel>; }
+ShadeFn select_normal(EffectMask) { return &shade_packet_simd<NormalKernel>; }
 DepthOutput depth_normal(EffectMask) { return DepthOutput::kNone; }
 
 }  // namespace

@@ -6,10 +6,12 @@
 // quads) at a time with F8, or one lane at a time with float when FrameUniforms::scalar_lanes is
 // set, loads the standard varyings (plugins/plugin.h, namespace varying), hands the kernel the
 // per-quad uv derivatives (dFdx/dFdy, coarse), stores colour, depth, discards and AOVs, and adds
-// the kernel's per-lane work counts for covered lanes only.
+// the kernel's per-lane work counts for covered lanes only. The loop runs as AVX2 or baseline code
+// by simd_level() (rasterizer/simd.h); both give the same bits.
 #pragma once
 
 #include "plugins/plugin.h"
+#include "rasterizer/simd.h"
 #include "shaders_cpp/frame.h"
 #include "shaders_cpp/sampling.h"
 
@@ -121,22 +123,58 @@ inline void store_out(const ShadeOut<F>& o, const FragmentPacket& p, int lane0, 
 
 }  // namespace detail
 
+namespace detail {
+
 template <class Kernel>
-void shade_packet(const ShadeContext& ctx, const FragmentPacket& in, FragmentOutput& out,
-                  WorkCounters& wc) {
+[[gnu::always_inline]] inline void shade_packet_body(const ShadeContext& ctx,
+                                                     const FragmentPacket& in, FragmentOutput& out,
+                                                     WorkCounters& wc) {
   const int lanes = in.num_quads * kQuadLanes;
   if (ctx.frame->scalar_lanes) {
     for (int l = 0; l < lanes; ++l) {
       if (!in.coverage[l >> 2]) continue;
-      const FragIn<float> f = detail::load_fragment<float>(in, l);
-      detail::store_out(Kernel::template shade<float>(ctx, f), in, l, out, wc);
+      const FragIn<float> f = load_fragment<float>(in, l);
+      store_out(Kernel::template shade<float>(ctx, f), in, l, out, wc);
     }
     return;
   }
   for (int l = 0; l < lanes; l += 8) {
-    const FragIn<F8> f = detail::load_fragment<F8>(in, l);
-    detail::store_out(Kernel::template shade<F8>(ctx, f), in, l, out, wc);
+    const FragIn<F8> f = load_fragment<F8>(in, l);
+    store_out(Kernel::template shade<F8>(ctx, f), in, l, out, wc);
   }
+}
+
+// The packet loop compiled twice (rasterizer/simd.h): baseline x86-64 and AVX2, each with the
+// kernel flattened (inlined) under it.
+template <class Kernel>
+RELIEF_BASE_ENTRY void shade_packet_base(const ShadeContext& ctx, const FragmentPacket& in,
+                                         FragmentOutput& out, WorkCounters& wc) {
+  shade_packet_body<Kernel>(ctx, in, out, wc);
+}
+template <class Kernel>
+RELIEF_AVX2_ENTRY void shade_packet_avx2(const ShadeContext& ctx, const FragmentPacket& in,
+                                         FragmentOutput& out, WorkCounters& wc) {
+  shade_packet_body<Kernel>(ctx, in, out, wc);
+}
+
+}  // namespace detail
+
+// The ShadeFn of a kernel, baseline code only.
+template <class Kernel>
+void shade_packet(const ShadeContext& ctx, const FragmentPacket& in, FragmentOutput& out,
+                  WorkCounters& wc) {
+  detail::shade_packet_body<Kernel>(ctx, in, out, wc);
+}
+
+// The ShadeFn of a kernel with an AVX2 clone picked by simd_level(); same bits as shade_packet.
+// Flattening costs compile time in proportion to the kernel, so kernels opt in (flat, normal).
+template <class Kernel>
+void shade_packet_simd(const ShadeContext& ctx, const FragmentPacket& in, FragmentOutput& out,
+                       WorkCounters& wc) {
+  if (simd_avx2())
+    detail::shade_packet_avx2<Kernel>(ctx, in, out, wc);
+  else
+    detail::shade_packet_base<Kernel>(ctx, in, out, wc);
 }
 
 }  // namespace relief
