@@ -124,6 +124,7 @@ int do_render(const RenderArgs& a) {
   opt.shadows = !a.no_shadows;
   opt.self_shadow = !a.no_self_shadow;
   opt.shadow = a.shadow;
+  opt.count_work = !a.stats.empty();  // the GL backend counts only when asked
   for (const std::string& kv : a.params) {
     const size_t eq = kv.find('=');
     if (eq == std::string::npos || eq == 0)

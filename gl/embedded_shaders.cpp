@@ -23,11 +23,21 @@
   extern "C" const char relief_shader_##sym##_begin[];                   \
   extern "C" const char relief_shader_##sym##_end[];
 
-#define RELIEF_SHADER_LIST(X) \
-  X(relief_vert, "relief.vert")  \
-  X(common_glsl, "common.glsl")  \
-  X(flat_frag, "flat.frag")      \
-  X(normal_frag, "normal.frag")
+#define RELIEF_SHADER_LIST(X)                   \
+  X(relief_vert, "relief.vert")                 \
+  X(common_glsl, "common.glsl")                 \
+  X(ray_glsl, "ray.glsl")                       \
+  X(search_glsl, "search.glsl")                 \
+  X(shadow_glsl, "shadow.glsl")                 \
+  X(exact_glsl, "exact.glsl")                   \
+  X(relief_shell_glsl, "relief_shell.glsl")     \
+  X(flat_frag, "flat.frag")                     \
+  X(normal_frag, "normal.frag")                 \
+  X(parallax_frag, "parallax.frag")             \
+  X(steep_parallax_frag, "steep_parallax.frag") \
+  X(pom_frag, "pom.frag")                       \
+  X(relief_frag, "relief.frag")                 \
+  X(exact_frag, "exact.frag")
 
 RELIEF_SHADER_LIST(RELIEF_EMBED)
 

@@ -7,11 +7,13 @@
 #include <cstdio>
 #include <map>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include <epoxy/gl.h>
 
 #include "gl/context.h"
+#include "gl/height_field.h"
 #include "gl/shader.h"
 
 #ifndef GL_TEXTURE_MAX_ANISOTROPY
@@ -20,7 +22,9 @@
 
 namespace relief {
 
-std::string gl_twin_file(const std::string& plugin_name) { return plugin_name + ".frag"; }
+std::string gl_twin_file(const std::string& plugin_name) {
+  return plugin_name + ".frag";
+}
 bool gl_has_twin(const std::string& plugin_name) {
   return gl::shader_file_exists(gl_twin_file(plugin_name));
 }
@@ -34,12 +38,18 @@ double ms_since(Clock::time_point t) {
 
 const char* gl_error_name(GLenum e) {
   switch (e) {
-    case GL_INVALID_ENUM: return "GL_INVALID_ENUM";
-    case GL_INVALID_VALUE: return "GL_INVALID_VALUE";
-    case GL_INVALID_OPERATION: return "GL_INVALID_OPERATION";
-    case GL_INVALID_FRAMEBUFFER_OPERATION: return "GL_INVALID_FRAMEBUFFER_OPERATION";
-    case GL_OUT_OF_MEMORY: return "GL_OUT_OF_MEMORY";
-    default: return "GL error";
+    case GL_INVALID_ENUM:
+      return "GL_INVALID_ENUM";
+    case GL_INVALID_VALUE:
+      return "GL_INVALID_VALUE";
+    case GL_INVALID_OPERATION:
+      return "GL_INVALID_OPERATION";
+    case GL_INVALID_FRAMEBUFFER_OPERATION:
+      return "GL_INVALID_FRAMEBUFFER_OPERATION";
+    case GL_OUT_OF_MEMORY:
+      return "GL_OUT_OF_MEMORY";
+    default:
+      return "GL error";
   }
 }
 
@@ -59,24 +69,33 @@ struct FormatGl {
 };
 FormatGl format_gl(TexFormat f, ColorSpace cs) {
   switch (f) {
-    case TexFormat::kR8: return {GL_R8, GL_RED, GL_UNSIGNED_BYTE};
-    case TexFormat::kRG8: return {GL_RG8, GL_RG, GL_UNSIGNED_BYTE};
+    case TexFormat::kR8:
+      return {GL_R8, GL_RED, GL_UNSIGNED_BYTE};
+    case TexFormat::kRG8:
+      return {GL_RG8, GL_RG, GL_UNSIGNED_BYTE};
     case TexFormat::kRGBA8:
       return {cs == ColorSpace::kSRGB ? GLenum(GL_SRGB8_ALPHA8) : GLenum(GL_RGBA8), GL_RGBA,
               GL_UNSIGNED_BYTE};
-    case TexFormat::kR16: return {GL_R16, GL_RED, GL_UNSIGNED_SHORT};
-    case TexFormat::kR16F: return {GL_R16F, GL_RED, GL_HALF_FLOAT};
-    case TexFormat::kRGBA16F: return {GL_RGBA16F, GL_RGBA, GL_HALF_FLOAT};
-    case TexFormat::kR32F: return {GL_R32F, GL_RED, GL_FLOAT};
+    case TexFormat::kR16:
+      return {GL_R16, GL_RED, GL_UNSIGNED_SHORT};
+    case TexFormat::kR16F:
+      return {GL_R16F, GL_RED, GL_HALF_FLOAT};
+    case TexFormat::kRGBA16F:
+      return {GL_RGBA16F, GL_RGBA, GL_HALF_FLOAT};
+    case TexFormat::kR32F:
+      return {GL_R32F, GL_RED, GL_FLOAT};
   }
   return {GL_RGBA8, GL_RGBA, GL_UNSIGNED_BYTE};
 }
 
 GLenum wrap_gl(Wrap w) {
   switch (w) {
-    case Wrap::kRepeat: return GL_REPEAT;
-    case Wrap::kClamp: return GL_CLAMP_TO_EDGE;
-    case Wrap::kMirror: return GL_MIRRORED_REPEAT;
+    case Wrap::kRepeat:
+      return GL_REPEAT;
+    case Wrap::kClamp:
+      return GL_CLAMP_TO_EDGE;
+    case Wrap::kMirror:
+      return GL_MIRRORED_REPEAT;
   }
   return GL_REPEAT;
 }
@@ -105,8 +124,8 @@ Locations find_locations(GLuint p) {
   l.height = loc("frame.height");
   for (int i = 0; i < kMaxLights; ++i) {
     const std::string b = "frame.lights[" + std::to_string(i) + "].";
-    l.lights[i] = {loc(b + "type"),  loc(b + "position"),       loc(b + "direction"),
-                   loc(b + "color"), loc(b + "range"),          loc(b + "inner_cone_cos"),
+    l.lights[i] = {loc(b + "type"),          loc(b + "position"), loc(b + "direction"),
+                   loc(b + "color"),         loc(b + "range"),    loc(b + "inner_cone_cos"),
                    loc(b + "outer_cone_cos")};
   }
   l.params = loc("material.params[0]");
@@ -117,15 +136,47 @@ Locations find_locations(GLuint p) {
   return l;
 }
 
+// Storage-block bindings of gl/shaders/common.glsl (work counters) and exact.glsl (max-mip).
+constexpr GLuint kCountersBinding = 0;
+constexpr GLuint kHeightFieldBinding = 1;
+// common.glsl: kCounterSlots slots of kCounterCount counters, in WorkCounters order below.
+constexpr int kCounterSlots = 256;
+constexpr int kCounterCount = 5;
+
 struct Program {
   GLuint id = 0;
   Locations loc;
+  bool height_field = false;  // reads HeightFieldBuffer (the exact twin)
 };
 
 struct CachedTexture {
   TexturePtr owner;  // keeps the address from being reused while cached
   GLuint id = 0;
 };
+
+// A cached max-mip: the depth texture and the wraps it was packed with.
+using HeightFieldKey = std::tuple<const Texture*, Wrap, Wrap>;
+
+// Deletes (with `del`, glDeleteTextures or glDeleteBuffers) the cached objects whose texture only
+// the cache still holds.
+template <class Map, class Delete>
+void drop_unowned(Map& cache, Delete del) {
+  for (auto it = cache.begin(); it != cache.end();) {
+    if (it->second.owner.use_count() == 1) {
+      del(1, &it->second.id);
+      it = cache.erase(it);
+    } else {
+      ++it;
+    }
+  }
+}
+
+// The plugin's texture slot called `name`, or -1.
+int slot_named(const PluginDescriptor& p, const char* name) {
+  for (int i = 0; i < p.num_textures; ++i)
+    if (std::string(p.textures[i].name) == name) return i;
+  return -1;
+}
 
 class GlBackend final : public Backend {
  public:
@@ -136,15 +187,21 @@ class GlBackend final : public Backend {
                               const RenderOptions& options) override;
 
  private:
-  Result<const Program*> program_for(const BoundMaterial& m, bool aovs, double* compile_ms);
-  GLuint texture_for(const Texture* t, const BoundMaterial& m, std::vector<GLuint>& transient);
+  Result<const Program*> program_for(const BoundMaterial& m, bool aovs, bool count,
+                                     double* compile_ms);
+  Result<GLuint> height_field_for(const BoundMaterial& m, std::vector<GLuint>& transient_buffers);
+  GLuint texture_for(const Texture* t, const BoundMaterial& m, bool as_r32f,
+                     std::vector<GLuint>& transient);
   GLuint sampler_for(const SamplerState& s);
   Status ensure_target(int w, int h, bool aovs);
   void release_target();
 
   std::unique_ptr<gl::Context> ctx_;
   std::map<std::string, Program> programs_;
-  std::map<const Texture*, CachedTexture> textures_;
+  std::map<std::pair<const Texture*, bool>, CachedTexture> textures_;  // (texture, as R32F)
+  std::map<HeightFieldKey, CachedTexture> height_fields_;
+  GLuint empty_field_ = 0;  // a HeightFieldBuffer with no levels (no depth texture)
+  GLuint counters_ = 0;
   std::map<uint32_t, GLuint> samplers_;
   GLuint fbo_ = 0, color_ = 0, depth_ = 0, aov_[2] = {0, 0};
   int fb_w_ = 0, fb_h_ = 0;
@@ -156,6 +213,9 @@ GlBackend::~GlBackend() {
   if (!ctx_ || !ctx_->make_current().ok()) return;
   for (auto& [k, p] : programs_) glDeleteProgram(p.id);
   for (auto& [k, t] : textures_) glDeleteTextures(1, &t.id);
+  for (auto& [k, b] : height_fields_) glDeleteBuffers(1, &b.id);
+  GLuint ssbos[] = {empty_field_, counters_};
+  glDeleteBuffers(2, ssbos);
   for (auto& [k, s] : samplers_) glDeleteSamplers(1, &s);
   release_target();
   if (vao_) glDeleteVertexArrays(1, &vao_);
@@ -164,12 +224,14 @@ GlBackend::~GlBackend() {
   if (query_) glDeleteQueries(1, &query_);
 }
 
-Result<const Program*> GlBackend::program_for(const BoundMaterial& m, bool aovs,
+Result<const Program*> GlBackend::program_for(const BoundMaterial& m, bool aovs, bool count,
                                               double* compile_ms) {
   const std::string plugin = m.plugin->name;
-  const bool writes_depth = m.plugin->depth_output(m.effects) != DepthOutput::kNone;
-  const std::string key =
-      plugin + "/" + std::to_string(m.effects) + "/" + (writes_depth ? "d" : "") + (aovs ? "a" : "");
+  const DepthOutput depth_output = m.plugin->depth_output(m.effects);
+  const bool writes_depth = depth_output != DepthOutput::kNone;
+  const std::string key = plugin + "/" + std::to_string(m.effects) + "/" +
+                          std::to_string(int(depth_output)) + (aovs ? "a" : "") +
+                          (count ? "c" : "");
   if (auto it = programs_.find(key); it != programs_.end()) return &it->second;
   const std::string frag = gl_twin_file(plugin);
   if (!gl::shader_file_exists(frag))
@@ -184,6 +246,8 @@ Result<const Program*> GlBackend::program_for(const BoundMaterial& m, bool aovs,
       flag("EFFECT_RECEIVE_SHADOW", m.effects & kEffectReceiveShadow),
       flag("RELIEF_WRITES_DEPTH", writes_depth),
       flag("RELIEF_AOVS", aovs),
+      flag("RELIEF_DEPTH_FARTHER", depth_output == DepthOutput::kFarther),
+      flag("RELIEF_COUNT", count),
   };
   const auto t0 = Clock::now();
   Result<unsigned> id = gl::build_program("relief.vert", frag, defines);
@@ -191,6 +255,22 @@ Result<const Program*> GlBackend::program_for(const BoundMaterial& m, bool aovs,
   Program p;
   p.id = *id;
   p.loc = find_locations(p.id);
+  p.height_field = glGetProgramResourceIndex(p.id, GL_SHADER_STORAGE_BLOCK, "HeightFieldBuffer") !=
+                   GL_INVALID_INDEX;
+  if (p.height_field) {
+    // The packer writes std430 with hf_data right after the header; check the driver agrees.
+    const GLuint var = glGetProgramResourceIndex(p.id, GL_BUFFER_VARIABLE, "hf_data[0]");
+    const GLenum prop = GL_OFFSET;
+    GLint offset = -1;
+    if (var != GL_INVALID_INDEX)
+      glGetProgramResourceiv(p.id, GL_BUFFER_VARIABLE, var, 1, &prop, 1, nullptr, &offset);
+    if (offset != gl::PackedHeightField::kHeaderWords * 4) {
+      glDeleteProgram(p.id);
+      return Status::error("gl: " + frag + ": HeightFieldBuffer.hf_data at byte " +
+                           std::to_string(offset) + ", gl/height_field.h packs it at " +
+                           std::to_string(gl::PackedHeightField::kHeaderWords * 4));
+    }
+  }
   *compile_ms += ms_since(t0);
   return &programs_.emplace(key, p).first->second;
 }
@@ -204,10 +284,17 @@ GLuint GlBackend::sampler_for(const SamplerState& s) {
   glCreateSamplers(1, &id);
   GLenum min = GL_LINEAR_MIPMAP_LINEAR, mag = GL_LINEAR;
   switch (s.filter) {
-    case Filter::kNearest: min = GL_NEAREST_MIPMAP_NEAREST; mag = GL_NEAREST; break;
-    case Filter::kBilinear: min = GL_LINEAR_MIPMAP_NEAREST; break;
+    case Filter::kNearest:
+      min = GL_NEAREST_MIPMAP_NEAREST;
+      mag = GL_NEAREST;
+      break;
+    case Filter::kBilinear:
+      min = GL_LINEAR_MIPMAP_NEAREST;
+      break;
     case Filter::kTrilinear:
-    case Filter::kAnisotropic: min = GL_LINEAR_MIPMAP_LINEAR; break;
+    case Filter::kAnisotropic:
+      min = GL_LINEAR_MIPMAP_LINEAR;
+      break;
   }
   glSamplerParameteri(id, GL_TEXTURE_MIN_FILTER, static_cast<GLint>(min));
   glSamplerParameteri(id, GL_TEXTURE_MAG_FILTER, static_cast<GLint>(mag));
@@ -220,29 +307,74 @@ GLuint GlBackend::sampler_for(const SamplerState& s) {
   return id;
 }
 
-GLuint GlBackend::texture_for(const Texture* t, const BoundMaterial& m,
+// The shared pointer of the material that holds `t` (null if none: then nothing may be cached).
+TexturePtr owner_of(const BoundMaterial& m, const Texture* t) {
+  for (const TexturePtr& p : m.keep_alive)
+    if (p.get() == t) return p;
+  return nullptr;
+}
+
+GLuint GlBackend::texture_for(const Texture* t, const BoundMaterial& m, bool as_r32f,
                               std::vector<GLuint>& transient) {
-  if (auto it = textures_.find(t); it != textures_.end()) return it->second.id;
-  const FormatGl f = format_gl(t->format(), t->color_space());
+  const std::pair<const Texture*, bool> key{t, as_r32f};
+  if (auto it = textures_.find(key); it != textures_.end()) return it->second.id;
+  const FormatGl f =
+      as_r32f ? FormatGl{GL_R32F, GL_RED, GL_FLOAT} : format_gl(t->format(), t->color_space());
   GLuint id = 0;
   glCreateTextures(GL_TEXTURE_2D, 1, &id);
   glTextureStorage2D(id, t->levels(), f.internal, t->width(0), t->height(0));
   glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
   glPixelStorei(GL_UNPACK_ROW_LENGTH, 0);
   // Row 0 in memory is v = 0 in both backends: uploaded as stored, no flip.
+  std::vector<float> r;
   for (int l = 0; l < t->levels(); ++l) {
     const MipLevel& lv = t->level(l);
-    glTextureSubImage2D(id, l, 0, 0, lv.width, lv.height, f.format, f.type, lv.data.data());
+    const void* texels = lv.data.data();
+    if (as_r32f) {
+      // the values the CPU's sample_r_lod decodes, texel for texel
+      r.resize(static_cast<size_t>(lv.width) * lv.height);
+      for (int y = 0; y < lv.height; ++y)
+        for (int x = 0; x < lv.width; ++x)
+          r[static_cast<size_t>(y) * lv.width + x] = t->fetch_r(l, x, y);
+      texels = r.data();
+    }
+    glTextureSubImage2D(id, l, 0, 0, lv.width, lv.height, f.format, f.type, texels);
   }
   glTextureParameteri(id, GL_TEXTURE_BASE_LEVEL, 0);
   glTextureParameteri(id, GL_TEXTURE_MAX_LEVEL, t->levels() - 1);
-  TexturePtr owner;
-  for (const TexturePtr& p : m.keep_alive)
-    if (p.get() == t) owner = p;
-  if (owner)
-    textures_.emplace(t, CachedTexture{owner, id});
+  if (TexturePtr owner = owner_of(m, t))
+    textures_.emplace(key, CachedTexture{owner, id});
   else
     transient.push_back(id);  // nothing keeps the address alive: do not cache
+  return id;
+}
+
+Result<GLuint> GlBackend::height_field_for(const BoundMaterial& m,
+                                           std::vector<GLuint>& transient_buffers) {
+  const int slot = slot_named(*m.plugin, "depth");
+  const Texture* t = slot >= 0 ? m.uniforms.textures[slot] : nullptr;
+  if (!t || t->empty()) {
+    if (!empty_field_) {
+      const std::vector<uint32_t> zeros(gl::PackedHeightField::kHeaderWords, 0u);
+      glCreateBuffers(1, &empty_field_);
+      glNamedBufferStorage(empty_field_, static_cast<GLsizeiptr>(zeros.size() * 4), zeros.data(),
+                           0);
+    }
+    return empty_field_;
+  }
+  const SamplerState& s = m.uniforms.samplers[slot];
+  const HeightFieldKey key{t, s.wrap_u, s.wrap_v};
+  if (auto it = height_fields_.find(key); it != height_fields_.end()) return it->second.id;
+  Result<gl::PackedHeightField> packed = gl::pack_height_field(*t, s);
+  if (!packed.ok()) return packed.status();
+  GLuint id = 0;
+  glCreateBuffers(1, &id);
+  glNamedBufferStorage(id, static_cast<GLsizeiptr>(packed->words.size() * 4), packed->words.data(),
+                       0);
+  if (TexturePtr owner = owner_of(m, t))
+    height_fields_.emplace(key, CachedTexture{owner, id});
+  else
+    transient_buffers.push_back(id);  // nothing keeps the address alive: do not cache
   return id;
 }
 
@@ -337,20 +469,19 @@ Result<RenderResult> GlBackend::render(const Scene& scene, const Plan& plan,
   RELIEF_RETURN_IF_ERROR(ctx_->make_current());
   while (glGetError() != GL_NO_ERROR) {
   }
+  for (const PassPlan& pass : plan.passes)
+    if (pass.kind == PassPlan::Kind::kShadow)
+      return Status::error("gl: shadow pass \"" + pass.name +
+                           "\": shadow maps are not implemented in the GL backend yet (render "
+                           "with --no-shadows, or --backend cpu)");
   RenderResult result;
   result.device = ctx_->info().renderer;
   const bool aovs = opt.aovs != 0;
   const int w = opt.width, h = opt.height;
 
-  // Drop cached textures nobody else holds any more.
-  for (auto it = textures_.begin(); it != textures_.end();) {
-    if (it->second.owner.use_count() == 1) {
-      glDeleteTextures(1, &it->second.id);
-      it = textures_.erase(it);
-    } else {
-      ++it;
-    }
-  }
+  // Drop cached textures and max-mips nobody else holds any more.
+  drop_unowned(textures_, glDeleteTextures);
+  drop_unowned(height_fields_, glDeleteBuffers);
 
   // Programs: the first frame of a variant pays for compiling it.
   std::vector<const Program*> programs(plan.materials.size(), nullptr);
@@ -363,7 +494,7 @@ Result<RenderResult> GlBackend::render(const Scene& scene, const Plan& plan,
     const BoundMaterial& m = plan.materials[d.material];
     if (!m.plugin) return Status::error("gl: material " + std::to_string(d.material) + " unbound");
     const size_t before = programs_.size();
-    Result<const Program*> p = program_for(m, aovs, &result.compile_ms);
+    Result<const Program*> p = program_for(m, aovs, opt.count_work, &result.compile_ms);
     if (!p.ok()) return p.status();
     programs[d.material] = *p;
     if (programs_.size() != before) fresh.push_back(d.material);
@@ -371,17 +502,43 @@ Result<RenderResult> GlBackend::render(const Scene& scene, const Plan& plan,
 
   // Uploads: textures (cached while the scene holds them) and this frame's vertex data.
   const auto t_upload = Clock::now();
-  std::vector<GLuint> transient;
+  std::vector<GLuint> transient, transient_buffers;
+  // What nothing caches dies with the frame, on every return path.
+  struct Transients {
+    std::vector<GLuint>& textures;
+    std::vector<GLuint>& buffers;
+    ~Transients() {
+      glDeleteTextures(static_cast<GLsizei>(textures.size()), textures.data());
+      glDeleteBuffers(static_cast<GLsizei>(buffers.size()), buffers.data());
+    }
+  } transients{transient, transient_buffers};
   std::vector<std::array<GLuint, kMaxTextureSlots>> tex_ids(plan.materials.size());
   std::vector<std::array<GLuint, kMaxTextureSlots>> sampler_ids(plan.materials.size());
+  std::vector<GLuint> field_ids(plan.materials.size(), 0);
   for (size_t mi = 0; mi < plan.materials.size(); ++mi) {
     if (!programs[mi]) continue;
     const BoundMaterial& m = plan.materials[mi];
+    const int depth_slot = slot_named(*m.plugin, "depth");
     for (int s = 0; s < kMaxTextureSlots; ++s) {
       const Texture* t = m.uniforms.textures[s];
-      tex_ids[mi][s] = t && !t->empty() ? texture_for(t, m, transient) : 0;
+      tex_ids[mi][s] = t && !t->empty() ? texture_for(t, m, s == depth_slot, transient) : 0;
       sampler_ids[mi][s] = t ? sampler_for(m.uniforms.samplers[s]) : 0;
     }
+    if (programs[mi]->height_field) {
+      Result<GLuint> f = height_field_for(m, transient_buffers);
+      if (!f.ok()) return f.status();
+      field_ids[mi] = *f;
+    }
+  }
+  if (opt.count_work && !counters_) {
+    glCreateBuffers(1, &counters_);
+    glNamedBufferStorage(counters_, kCounterSlots * kCounterCount * sizeof(uint32_t), nullptr,
+                         GL_DYNAMIC_STORAGE_BIT);
+  }
+  if (opt.count_work) {
+    const uint32_t zero = 0;
+    glClearNamedBufferData(counters_, GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kCountersBinding, counters_);
   }
   if (!vao_) {
     glCreateVertexArrays(1, &vao_);
@@ -424,8 +581,8 @@ Result<RenderResult> GlBackend::render(const Scene& scene, const Plan& plan,
   for (size_t i = 0; i < prepared.size(); ++i) {
     const PreparedDraw& d = prepared[i];
     if (!d.indices || d.indices->empty()) continue;
-    ranges.push_back({i, static_cast<GLsizei>(d.indices->size()), idx.size(),
-                      static_cast<GLint>(clip.size())});
+    ranges.push_back(
+        {i, static_cast<GLsizei>(d.indices->size()), idx.size(), static_cast<GLint>(clip.size())});
     clip.insert(clip.end(), d.clip.begin(), d.clip.end());
     vary.insert(vary.end(), d.varyings.begin(), d.varyings.end());
     idx.insert(idx.end(), d.indices->begin(), d.indices->end());
@@ -443,7 +600,7 @@ Result<RenderResult> GlBackend::render(const Scene& scene, const Plan& plan,
   result.upload_ms = ms_since(t_upload);
   RELIEF_RETURN_IF_ERROR(gl_check("upload"));
 
-  // The main pass. (Shadow passes: the CPU backend does not execute them yet either.)
+  // The main pass (plans with shadow passes were refused above).
   FrameUniforms frame = plan.frame;
   frame.width = w;
   frame.height = h;
@@ -465,7 +622,10 @@ Result<RenderResult> GlBackend::render(const Scene& scene, const Plan& plan,
     const Program& p = *programs[mi];
     glUseProgram(p.id);
     auto [it, first_use] = material_of.emplace(p.id, -1);
-    if (first_use) set_frame_uniforms(p.id, p.loc, frame);
+    if (first_use) {
+      set_frame_uniforms(p.id, p.loc, frame);
+      glProgramUniform2f(p.id, glGetUniformLocation(p.id, "viewport_size"), float(w), float(h));
+    }
     if (it->second != mi) {
       set_material_uniforms(p.id, p.loc, m.uniforms);
       it->second = mi;
@@ -474,6 +634,8 @@ Result<RenderResult> GlBackend::render(const Scene& scene, const Plan& plan,
       glBindTextureUnit(s, tex_ids[mi][s]);
       glBindSampler(s, sampler_ids[mi][s]);
     }
+    if (p.height_field)
+      glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kHeightFieldBinding, field_ids[mi]);
     if (m.double_sided)
       glDisable(GL_CULL_FACE);
     else
@@ -526,6 +688,22 @@ Result<RenderResult> GlBackend::render(const Scene& scene, const Plan& plan,
   const double gpu_ms = static_cast<double>(ns) * 1e-6;
   main.gpu_ms = gpu_ms > 0.0 && gpu_ms <= main.ms * 1.05 + 0.05 ? gpu_ms : -1.0;
   RELIEF_RETURN_IF_ERROR(gl_check("main pass"));
+  if (opt.count_work) {
+    // The slots of common.glsl's WorkCountersBuffer, summed into the CPU's WorkCounters.
+    std::vector<uint32_t> c(kCounterSlots * kCounterCount);
+    glGetNamedBufferSubData(counters_, 0, static_cast<GLsizeiptr>(c.size() * sizeof(uint32_t)),
+                            c.data());
+    uint64_t sum[kCounterCount] = {};
+    for (int slot = 0; slot < kCounterSlots; ++slot)
+      for (int k = 0; k < kCounterCount; ++k) sum[k] += c[slot * kCounterCount + k];
+    WorkCounters& work = main.raster.work;
+    work.fragments = sum[0];
+    work.texture_fetches = sum[1];
+    work.search_steps = sum[2];
+    work.shadow_steps = sum[3];
+    work.discarded = sum[4];
+    RELIEF_RETURN_IF_ERROR(gl_check("work counters"));
+  }
   result.passes.push_back(main);
 
   // Read back, flipping rows: GL's row 0 is the bottom, the Image's the top.
@@ -566,7 +744,6 @@ Result<RenderResult> GlBackend::render(const Scene& scene, const Plan& plan,
     for (int x = 0; x < w; ++x)
       fb.depth.at(x, y) = finite(dbuf[static_cast<size_t>(h - 1 - y) * w + x]);
   glBindFramebuffer(GL_FRAMEBUFFER, 0);
-  glDeleteTextures(static_cast<GLsizei>(transient.size()), transient.data());
   RELIEF_RETURN_IF_ERROR(gl_check("read back"));
   result.readback_ms = ms_since(t_read);
   result.framebuffer = std::move(fb);

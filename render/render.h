@@ -31,6 +31,8 @@ struct RenderOptions {
   std::map<std::string, std::string> params;  // key=value overrides of plugin parameters
   AovMask aovs = 0;
   bool scalar_lanes = false;  // run kernels one fragment at a time (reference path)
+  // GL backend: count the work counters (fetches, steps) with atomics; the CPU always counts.
+  bool count_work = false;
   // Effect switches over the whole scene (the scene's own choices still apply): shadow passes
   // (shadow maps) and self-shadow rays. Bias and filtering of the shadow-map lookups.
   bool shadows = true;

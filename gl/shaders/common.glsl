@@ -10,13 +10,26 @@
 //   vary[4]                            the 16 standard varyings (namespace varying)
 // Variant defines (0 or 1): EFFECT_SELF_SHADOW, EFFECT_DEPTH_WRITE, EFFECT_SILHOUETTE,
 // EFFECT_SHADOW_PASS, EFFECT_RECEIVE_SHADOW, RELIEF_WRITES_DEPTH (the variant's DepthOutput is not
-// kNone), RELIEF_AOVS (the pass writes AOVs).
+// kNone), RELIEF_AOVS (the pass writes AOVs); optional, 0 when absent: RELIEF_DEPTH_FARTHER (the
+// DepthOutput is kFarther: gl_FragDepth is declared depth_less, reversed-Z farther = smaller, so
+// the polygon depth stays a conservative early test as on the CPU) and RELIEF_COUNT (the work
+// counters of WorkCounters go to the WorkCountersBuffer storage block, binding 0).
 //
 // Coordinates: gl_FragCoord is redeclared origin_upper_left so x, y match the CPU's (pixel
 // centres, rows top to bottom). GL's window y runs up while image rows run down, so the image-space
 // derivative the CPU calls dFdy is -dFdyCoarse here (load_fragment does it).
 
 layout(origin_upper_left) in vec4 gl_FragCoord;
+
+#ifndef RELIEF_DEPTH_FARTHER
+#define RELIEF_DEPTH_FARTHER 0
+#endif
+#ifndef RELIEF_COUNT
+#define RELIEF_COUNT 0
+#endif
+#if RELIEF_WRITES_DEPTH && RELIEF_DEPTH_FARTHER
+layout(depth_less) out float gl_FragDepth;
+#endif
 
 // ---- plugins/plugin.h ----
 const int kMaxParams = 32;
@@ -136,8 +149,10 @@ FragIn load_fragment() {
   f.tangent = vec3(varying_at(kTangent), varying_at(kTangent + 1), varying_at(kTangent + 2));
   f.tangent_sign = varying_at(kTangent + 3);
   f.uv = vec2(varying_at(kUv), varying_at(kUv + 1));
-  f.duv_dx = dFdxCoarse(f.uv);
-  f.duv_dy = -dFdyCoarse(f.uv);
+  vec2 fx = dFdxFine(f.uv), fy = -dFdyFine(f.uv), cross_ = -dFdyFine(fx);
+  bool bottom = (int(gl_FragCoord.y) & 1) != 0, right = (int(gl_FragCoord.x) & 1) != 0;
+  f.duv_dx = fx - (bottom ? cross_ : vec2(0.0));
+  f.duv_dy = fy - (right ? cross_ : vec2(0.0));
   f.quadric = vec2(varying_at(kQuadric), varying_at(kQuadric + 1));
   f.tile_scale = vec2(varying_at(kTileScale), varying_at(kTileScale + 1));
   f.frag_z = gl_FragCoord.z;
@@ -145,7 +160,29 @@ FragIn load_fragment() {
   return f;
 }
 
+#if RELIEF_COUNT
+// rasterizer/fragment.h WorkCounters, summed by the backend over kCounterSlots slots (pixels hash
+// to a slot so that atomics on one address do not serialise a whole GPU).
+const uint kCounterSlots = 256u;
+const uint kCounterFragments = 0u, kCounterFetches = 1u, kCounterSearchSteps = 2u,
+           kCounterShadowSteps = 3u, kCounterDiscarded = 4u, kCounterCount = 5u;
+layout(std430, binding = 0) buffer WorkCountersBuffer { uint work_counters[]; };
+
+void count_work(uint slot, uint counter, float n) {
+  if (n > 0.0) atomicAdd(work_counters[slot * kCounterCount + counter], uint(n));
+}
+#endif
+
 void store_out(ShadeOut o) {
+#if RELIEF_COUNT
+  uvec2 px = uvec2(gl_FragCoord.xy);
+  uint slot = (px.x * 7u + px.y * 61u) % kCounterSlots;
+  count_work(slot, kCounterFragments, 1.0);
+  count_work(slot, kCounterFetches, o.fetches);
+  count_work(slot, kCounterSearchSteps, o.steps);
+  count_work(slot, kCounterShadowSteps, o.shadow_steps);
+  count_work(slot, kCounterDiscarded, o.discarded ? 1.0 : 0.0);
+#endif
   if (o.discarded) discard;
   out_color = vec4(o.color, o.alpha);
 #if RELIEF_WRITES_DEPTH

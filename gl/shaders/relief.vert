@@ -7,9 +7,19 @@
 layout(location = 0) in vec4 a_clip;
 layout(location = 1) in vec4 a_varyings[4];
 
+uniform vec2 viewport_size;
+
 out vec4 vary[4];
 
 void main() {
-  gl_Position = a_clip;
+  vec4 c = a_clip;
+  if (c.w > 0.0 && c.z <= c.w && c.z >= 0.0 && viewport_size.x > 0.0) {
+    dvec2 iw = dvec2(1.0LF / double(c.w));
+    dvec2 s = (dvec2(c.x, -c.y) * iw * 0.5LF + 0.5LF) * dvec2(viewport_size);
+    s = sign(s) * floor(abs(s) * 256.0LF + 0.5LF) / 256.0LF;  // std::lround: half away from 0
+    dvec2 ndc = s / dvec2(viewport_size) * 2.0LF - 1.0LF;
+    c.xy = vec2(ndc.x * double(c.w), -ndc.y * double(c.w));
+  }
+  gl_Position = c;
   for (int i = 0; i < 4; ++i) vary[i] = a_varyings[i];
 }

@@ -1,0 +1,108 @@
+// Twin of plugins/relief_shell.h: the shell every height-field technique shares (parallax,
+// steep_parallax, pom, relief, exact): the per-fragment tangent frame, the view ray in texture
+// space, the constant LOD per quad, depth correction of the hit, shading at the hit with the
+// normal and base-colour maps, and the self-shadow hook. Policarpo, Oliveira and Comba,
+// "Real-Time Relief Mapping on Arbitrary Polygonal Surfaces", I3D 2005 (figure 10 for the shadow
+// ray, section 2 for the depth correction).
+//
+// A twin is its policy, as in C++. Before including this file it defines
+//   const int kDepthScale;  // schema index of "depth_scale"
+// and after it the two hooks declared below (search and shadow). The C++ kernel's template
+// parameter kEffects is the EFFECT_* defines here: one program per combination.
+#include "common.glsl"
+#include "ray.glsl"
+#include "search.glsl"
+#include "shadow.glsl"
+
+const int kBaseColorSlot = 0;
+const int kNormalSlot = 1;
+
+// First hit of the ray uv + t * (ds, 1) in depth units (V: tangent-space view direction).
+SearchHit search(FragIn in_, TextureDepth depth, vec3 V, vec2 ds);
+// Visibility in [0, 1] of the hit towards a light (tangent-space z = lz, texture step dl); adds
+// its steps and fetches to o.
+float shadow(TextureDepth depth, SearchHit hit, vec2 dl, float lz, inout ShadeOut o);
+
+// What the C++ visibility lambda captures.
+TangentFrame shell_tf;
+TextureDepth shell_depth;
+SearchHit shell_hit;
+float shell_depth_scale;
+ShadeOut shell_out;
+
+float visibility(int i, vec3 l) {
+#if EFFECT_SELF_SHADOW
+  if (!has_texture[kDepthSlot]) return 1.0;
+  vec3 lt = to_tangent(shell_tf, l);
+  return shadow(shell_depth, shell_hit, light_step(lt, shell_depth_scale), lt.z, shell_out);
+#else
+  return 1.0;
+#endif
+}
+
+ShadeOut shade(FragIn in_) {
+  ShadeOut o = shade_out_default();
+  vec3 geo_n = in_.normal;
+  if (!in_.front_facing) geo_n = -geo_n;
+  TangentFrame tf = make_tangent_frame(geo_n, in_.tangent, in_.tangent_sign);
+  vec3 w = world_view_dir(in_.position, frame.eye, frame.orthographic, frame.view_dir, -tf.n);
+  vec3 V = to_tangent(tf, w);
+  float depth_scale = material.params[kDepthScale];
+  vec2 ds = texture_step(V, depth_scale);
+  TextureDepth depth = TextureDepth(0.0);
+  SearchHit hit = SearchHit(in_.uv, 0.0, 0.0, 0.0);
+  if (has_texture[kDepthSlot]) {
+    // constant LOD per quad, outside the loops
+    depth.lod = compute_lod(vec2(textureSize(textures[kDepthSlot], 0)), in_.duv_dx, in_.duv_dy);
+    hit = search(in_, depth, V, ds);
+  }
+  o.hit_uv = hit.uv;
+  o.hit_depth = hit.depth;
+  o.steps = hit.steps;
+  o.fetches = hit.fetches;
+  // world units per uv along T and B (scene/mesh_prep.cpp tile scale)
+  float world_height = depth_scale * (in_.tile_scale.x + in_.tile_scale.y) * 0.5;
+  vec3 pos = hit_world_position(in_.position, w, V.z, hit.depth, world_height);
+#if EFFECT_DEPTH_WRITE || EFFECT_SHADOW_PASS
+  o.depth = min(reversed_z_depth(frame.view_proj, pos, in_.frag_z), in_.frag_z);
+#endif
+#if EFFECT_SHADOW_PASS
+  return o;
+#else
+  vec3 n = tf.n;
+  if (has_texture[kNormalSlot]) {
+    vec4 c = textureGrad(textures[kNormalSlot], hit.uv, in_.duv_dx, in_.duv_dy);
+    n = normalize_safe(to_world(tf, vec3(c.x * 2.0 - 1.0, c.y * 2.0 - 1.0, c.z * 2.0 - 1.0)));
+    o.fetches += 1.0;
+  }
+  vec3 albedo = material.base_color.rgb;
+  if (has_texture[kBaseColorSlot]) {
+    vec4 c = textureGrad(textures[kBaseColorSlot], hit.uv, in_.duv_dx, in_.duv_dy);
+    albedo = albedo * c.xyz;
+    o.fetches += 1.0;
+  }
+  // lighting at the displaced point
+  shell_tf = tf;
+  shell_depth = depth;
+  shell_hit = hit;
+  shell_depth_scale = depth_scale;
+  shell_out = o;
+  vec3 color = blinn_phong(pos, n, -w, albedo);
+  o = shell_out;
+  o.color = color;
+  o.alpha = material.base_color.a;
+  o.shading_normal = n;
+  return o;
+#endif
+}
+
+// The marched self-shadow ray of shadow.glsl with a start offset `bias` in depth units.
+float marched_shadow(TextureDepth depth, SearchHit hit, vec2 dl, float lz, int steps, float bias,
+                     inout ShadeOut o) {
+  ShadowResult sr = self_shadow(depth, hit.uv, hit.depth, dl, lz, steps, bias);
+  o.shadow_steps += sr.steps;
+  o.fetches += sr.fetches;
+  return sr.visibility;
+}
+
+void main() { store_out(shade(load_fragment())); }
