@@ -13,9 +13,12 @@
 namespace relief::gl {
 namespace {
 
-std::vector<std::string> variant_defines(EffectMask e, bool writes_depth, bool aovs) {
+std::vector<std::string> variant_defines(EffectMask e, bool writes_depth, bool aovs,
+                                         bool farther = false, bool count = false) {
   auto flag = [](const char* n, bool on) { return std::string(n) + (on ? " 1" : " 0"); };
-  return {flag("EFFECT_SELF_SHADOW", e & kEffectSelfShadow),
+  return {flag("RELIEF_DEPTH_FARTHER", farther),
+          flag("RELIEF_COUNT", count),
+          flag("EFFECT_SELF_SHADOW", e & kEffectSelfShadow),
           flag("EFFECT_DEPTH_WRITE", e & kEffectDepthWrite),
           flag("EFFECT_SILHOUETTE", e & kEffectSilhouette),
           flag("EFFECT_SHADOW_PASS", e & kEffectShadowPass),
@@ -50,15 +53,20 @@ TEST(Shader, EveryTwinCompilesForEveryEffectCombination) {
     const EffectMask supported = plugin->supported_effects;
     // Every subset of the supported effects.
     for (EffectMask e = supported;; e = (e - 1) & supported) {
-      const bool writes_depth = plugin->depth_output(e) != DepthOutput::kNone;
-      Result<unsigned> p =
-          build_program("relief.vert", gl_twin_file(plugin->name), variant_defines(e, writes_depth, false));
-      EXPECT_TRUE(p.ok()) << plugin->name << " effects " << e << ": " << p.status().message();
-      if (p.ok()) glDeleteProgram(*p);
+      const DepthOutput depth = plugin->depth_output(e);
+      const bool writes_depth = depth != DepthOutput::kNone;
+      // as the backend builds it, with and without the work counters
+      for (int count = 0; count < 2; ++count) {
+        Result<unsigned> p = build_program(
+            "relief.vert", gl_twin_file(plugin->name),
+            variant_defines(e, writes_depth, false, depth == DepthOutput::kFarther, count != 0));
+        EXPECT_TRUE(p.ok()) << plugin->name << " effects " << e << ": " << p.status().message();
+        if (p.ok()) glDeleteProgram(*p);
+      }
       if (e == 0) break;
     }
   }
-  EXPECT_GE(twins, 2);
+  EXPECT_GE(twins, 7);  // flat, normal and the relief family
 }
 
 TEST(Shader, CompileErrorNamesFileAndLine) {
@@ -70,7 +78,8 @@ TEST(Shader, CompileErrorNamesFileAndLine) {
       "void main() {\n"
       "  out_color = vec4(undeclared_thing);\n"  // line 5
       "}\n";
-  Result<ShaderSource> src = preprocess_shader("broken.frag", text, variant_defines(0, false, false));
+  Result<ShaderSource> src =
+      preprocess_shader("broken.frag", text, variant_defines(0, false, false));
   ASSERT_TRUE(src.ok()) << src.status().message();
   Result<unsigned> s = compile_shader(GL_FRAGMENT_SHADER, *src);
   ASSERT_FALSE(s.ok());
@@ -137,8 +146,8 @@ TEST(Shader, PreprocessorRejectsBadInput) {
 
 TEST(Shader, DefinesFollowTheVersionLine) {
   auto none = [](const std::string& n) -> Result<std::string> { return Status::error("no " + n); };
-  Result<ShaderSource> s =
-      preprocess_shader("a.frag", "// head\n#version 450 core\nvoid main() {}\n", {"A 1", "B"}, none);
+  Result<ShaderSource> s = preprocess_shader(
+      "a.frag", "// head\n#version 450 core\nvoid main() {}\n", {"A 1", "B"}, none);
   ASSERT_TRUE(s.ok()) << s.status().message();
   EXPECT_EQ(s->text.find("#version 450 core\n#define A 1\n#define B\n#line 3 0\n"),
             s->text.find("#version"));
