@@ -218,7 +218,9 @@ TEST(TechniqueRender, SearchesConvergeToExactOnRenderedScenes) {
       for (size_t i = 0; i < m.size(); ++i) {
         RecordProperty(std::string(name) + "_" + s.technique + "_" + std::to_string(kSteps[i]),
                        std::to_string(m[i]));
-        if (i > 0) EXPECT_LE(m[i], m[i - 1]) << name << " " << s.technique << " n=" << kSteps[i];
+        if (i > 0) {
+          EXPECT_LE(m[i], m[i - 1]) << name << " " << s.technique << " n=" << kSteps[i];
+        }
       }
       EXPECT_LT(m.back(), m.front()) << name << " " << s.technique;
     }
