@@ -3,6 +3,7 @@
 #include "plugins/builtin.h"
 #include "plugins/shading.h"
 #include "shaders_cpp/lighting.h"
+#include "shaders_cpp/shadow_map.h"
 
 namespace relief {
 namespace {
@@ -13,7 +14,7 @@ const TextureSlotSpec kSlots[] = {
     {"base_color", false, "sRGB base colour, multiplied by the material's base colour"},
 };
 
-struct FlatKernel {
+template <bool kReceive> struct FlatKernel {
   template <class F> static ShadeOut<F> shade(const ShadeContext& ctx, const FragIn<F>& in) {
     const MaterialUniforms& m = *ctx.material;
     ShadeOut<F> o;
@@ -26,7 +27,11 @@ struct FlatKernel {
       o.fetches = F(1.0f);
     }
     const V3<F> v = normalize(V3<F>(ctx.frame->eye) - in.position);
-    o.color = blinn_phong(*ctx.frame, m, in.position, n, v, albedo, NoShadow<F>());
+    if constexpr (kReceive)
+      o.color = blinn_phong(*ctx.frame, m, in.position, n, v, albedo,
+                            ShadowMapReceiver<F>{*ctx.frame, in.position, n, o.fetches});
+    else
+      o.color = blinn_phong(*ctx.frame, m, in.position, n, v, albedo, NoShadow<F>());
     o.alpha = F(m.base_color.a);
     o.hit_uv = in.uv;
     o.shading_normal = n;
@@ -34,14 +39,17 @@ struct FlatKernel {
   }
 };
 
-ShadeFn select_flat(EffectMask) { return &shade_packet_simd<FlatKernel>; }
+ShadeFn select_flat(EffectMask e) {
+  return (e & kEffectReceiveShadow) ? &shade_packet_simd<FlatKernel<true>>
+                                    : &shade_packet_simd<FlatKernel<false>>;
+}
 DepthOutput depth_flat(EffectMask) { return DepthOutput::kNone; }
 
 }  // namespace
 
 const PluginDescriptor kFlatPlugin = {
     kPluginAbiVersion, "flat", "Lambert and Blinn-Phong over the interpolated normal (no relief)",
-    nullptr, 0, kSlots, 1, 0, &select_flat, &depth_flat, nullptr, nullptr,
+    nullptr, 0, kSlots, 1, kEffectReceiveShadow, &select_flat, &depth_flat, nullptr, nullptr,
 };
 
 }  // namespace relief

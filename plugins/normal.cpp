@@ -3,6 +3,7 @@
 #include "plugins/builtin.h"
 #include "plugins/shading.h"
 #include "shaders_cpp/lighting.h"
+#include "shaders_cpp/shadow_map.h"
 
 namespace relief {
 namespace {
@@ -19,7 +20,7 @@ const ParamSpec kParams[] = {
      "scales the map's x and y before renormalising (0 = flat)"},
 };
 
-struct NormalKernel {
+template <bool kReceive> struct NormalKernel {
   template <class F> static ShadeOut<F> shade(const ShadeContext& ctx, const FragIn<F>& in) {
     const MaterialUniforms& m = *ctx.material;
     ShadeOut<F> o;
@@ -43,7 +44,12 @@ struct NormalKernel {
       o.fetches += F(1.0f);
     }
     const V3<F> v = normalize(V3<F>(ctx.frame->eye) - in.position);
-    o.color = blinn_phong(*ctx.frame, m, in.position, n, v, albedo, NoShadow<F>());
+    // shadow maps compare against the polygon's plane (tf.n), which is where the point is
+    if constexpr (kReceive)
+      o.color = blinn_phong(*ctx.frame, m, in.position, n, v, albedo,
+                            ShadowMapReceiver<F>{*ctx.frame, in.position, tf.n, o.fetches});
+    else
+      o.color = blinn_phong(*ctx.frame, m, in.position, n, v, albedo, NoShadow<F>());
     o.alpha = F(m.base_color.a);
     o.hit_uv = in.uv;
     o.shading_normal = n;
@@ -51,14 +57,17 @@ struct NormalKernel {
   }
 };
 
-ShadeFn select_normal(EffectMask) { return &shade_packet_simd<NormalKernel>; }
+ShadeFn select_normal(EffectMask e) {
+  return (e & kEffectReceiveShadow) ? &shade_packet_simd<NormalKernel<true>>
+                                    : &shade_packet_simd<NormalKernel<false>>;
+}
 DepthOutput depth_normal(EffectMask) { return DepthOutput::kNone; }
 
 }  // namespace
 
 const PluginDescriptor kNormalPlugin = {
     kPluginAbiVersion, "normal", "tangent-space normal mapping, no parallax (Blinn 1978)",
-    kParams, 1, kSlots, 2, 0, &select_normal, &depth_normal, nullptr, nullptr,
+    kParams, 1, kSlots, 2, kEffectReceiveShadow, &select_normal, &depth_normal, nullptr, nullptr,
 };
 
 }  // namespace relief

@@ -149,4 +149,18 @@ inline F shadow_map_visibility(const ShadowMapView& m, const V3<F>& p, const V3<
   return vis;
 }
 
+// The visibility callback of blinn_phong (shaders_cpp/lighting.h) for kernels whose only
+// visibility is the shadow maps: light i's map, if it has one, at point p with normal n (the
+// geometric normal for surfaces that do not move the point); taps are added to `fetches`.
+template <class F>
+struct ShadowMapReceiver {
+  const FrameUniforms& frame;
+  V3<F> p, n;
+  F& fetches;
+  F operator()(int i, V3<F> l, mask_t<F> lit) const {
+    const ShadowMapView* sm = frame.lights[i].shadow;
+    return sm ? shadow_map_visibility(*sm, p, n, l, lit, fetches) : F(1.0f);
+  }
+};
+
 }  // namespace relief

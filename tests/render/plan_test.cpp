@@ -162,7 +162,7 @@ TEST(Plan, CastersWithoutAShadowPassVariantWritePolygonDepth) {
   ASSERT_EQ(p.passes.size(), 2u);
   EXPECT_TRUE(p.materials[2].shadow_caster);
   EXPECT_EQ(p.materials[2].shadow_effects, 0u);
-  EXPECT_FALSE(p.materials[2].effects & kEffectReceiveShadow);
+  EXPECT_TRUE(p.materials[2].effects & kEffectReceiveShadow);  // flat receives
   EXPECT_NE(p.explain().find("polygon depth: flat has no shadow-pass variant"), std::string::npos);
   EXPECT_EQ(render(s).passes.size(), 2u);
 }
