@@ -93,7 +93,7 @@ constexpr PluginDescriptor cone_plugin(const char* name, const char* description
           static_cast<int>(kNumParams),
           slots,
           static_cast<int>(kNumSlots),
-          kEffectSelfShadow | kEffectDepthWrite | kEffectShadowPass,
+          kReliefShellEffects,
           &select_relief_variant<Search>,
           &relief_depth_output,
           nullptr,
