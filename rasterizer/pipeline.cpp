@@ -183,9 +183,9 @@ struct Rasterizer::Impl {
     };
     plane(v0.z, v[1]->z, v[2]->z, out + 3 * kPlaneZ);
     plane(v0.iw, v[1]->iw, v[2]->iw, out + 3 * kPlaneIw);
-    const float* va = &vary[v0.vary];
-    const float* vb = &vary[v[1]->vary];
-    const float* vc = &vary[v[2]->vary];
+    const float* va = vary.data() + v0.vary;
+    const float* vb = vary.data() + v[1]->vary;
+    const float* vc = vary.data() + v[2]->vary;
     for (int k = 0; k < nv; ++k) plane(va[k], vb[k], vc[k], out + 3 * (kPlaneVary + k));
     tris.push_back(t);
   }
@@ -235,7 +235,7 @@ struct Rasterizer::Impl {
     }
     ScreenVertex s[9];
     for (int i = 0; i < a.n; ++i)
-      if (!to_screen(a.c[i], &clip_arena[a.arena[i]], nv, s[i])) {
+      if (!to_screen(a.c[i], clip_arena.data() + a.arena[i], nv, s[i])) {
         ++stats.triangles_culled;
         return;
       }
@@ -257,7 +257,7 @@ struct Rasterizer::Impl {
       valid[i] = finite4(c);
       codes[i] = valid[i] ? outcode(c) : 0;
       if (valid[i] && !(codes[i] & kNeedsClip))
-        valid[i] = to_screen(c, &dc.varyings[i * nv], nv, screen[i]);
+        valid[i] = to_screen(c, dc.varyings.data() + i * nv, nv, screen[i]);
     }
     const size_t ntri = dc.indices.size() / 3;
     for (size_t t = 0; t < ntri; ++t) {
@@ -277,9 +277,9 @@ struct Rasterizer::Impl {
         setup(draw, dc, screen[i0], screen[i1], screen[i2]);
       } else {
         ++stats.triangles_clipped;
-        const ClipVertex in[3] = {{dc.clip[i0], &dc.varyings[size_t(i0) * nv]},
-                                  {dc.clip[i1], &dc.varyings[size_t(i1) * nv]},
-                                  {dc.clip[i2], &dc.varyings[size_t(i2) * nv]}};
+        const ClipVertex in[3] = {{dc.clip[i0], dc.varyings.data() + size_t(i0) * nv},
+                                  {dc.clip[i1], dc.varyings.data() + size_t(i1) * nv},
+                                  {dc.clip[i2], dc.varyings.data() + size_t(i2) * nv}};
         uint32_t planes = 0;
         for (int p = 0; p < 6; ++p)
           if (any & (1u << p)) planes |= 1u << p;
