@@ -4,10 +4,9 @@
 // HeightField::from_texture reads it) and the sampler's wrap modes. Tevs, Ihrke and Seidel,
 // "Maximum Mipmaps for Fast, Accurate, and Scalable Dynamic Height Field Rendering", I3D 2008.
 //
-// HeightField keeps its levels private, so the construction is repeated here step by step (the
-// expanded texel field, the per-cell minimum of four corners, then 2x2 minima up to 1 x 1);
-// tests/gl/height_field_test.cpp checks the packed field against HeightField::depth_at and the
-// hierarchy against its definition.
+// The field is built once by HeightField::from_texture and copied through its read-only layout
+// view, so both backends traverse the same numbers; tests/gl/height_field_test.cpp checks the
+// packed field against HeightField::depth_at and the hierarchy against its definition.
 #pragma once
 
 #include <cstdint>

@@ -61,6 +61,20 @@ class HeightField {
   bool shadowed(double u, double v, double t, double dlx, double dly, double bias,
                 int* nodes = nullptr, int* cells = nullptr) const;
 
+  // Read-only layout, for packing the same field elsewhere (gl/height_field.cpp). Axis 0 is u.
+  // The expanded texels are period(0) x period(1), row-major; level l has level_width(l) x
+  // level_height(l) nodes, level 0 one per leaf cell (min of its four corners), each level above
+  // the min of 2x2 nodes, the last 1 x 1.
+  bool periodic(int axis) const { return axis_(axis).periodic; }
+  int size(int axis) const { return axis_(axis).size; }
+  int period(int axis) const { return axis_(axis).period; }
+  int cells(int axis) const { return axis_(axis).cells; }
+  const std::vector<float>& texels() const { return tex_; }
+  int num_levels() const { return static_cast<int>(levels_.size()); }
+  const std::vector<float>& level(int l) const { return levels_[l]; }
+  int level_width(int l) const { return nx_[l]; }
+  int level_height(int l) const { return ny_[l]; }
+
  private:
   struct Axis {
     bool periodic = true;
@@ -74,6 +88,7 @@ class HeightField {
   };
   struct Query;  // traversal state (exact.cpp)
 
+  const Axis& axis_(int axis) const { return axis == 0 ? ax_ : ay_; }
   float texel(int i, int j) const { return tex_[static_cast<size_t>(j) * ax_.period + i]; }
   int corner(const Axis& a, int i) const;
   float node(int level, int i, int j) const {
