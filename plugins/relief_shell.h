@@ -23,21 +23,15 @@
 // Texture slots 0, 1, 2 are base_color, normal and depth in every plugin built on the shell.
 #pragma once
 
-#include "plugins/shading.h"
-#include "shaders_cpp/lighting.h"
+#include "plugins/surface.h"
 #include "shaders_cpp/ray.h"
 #include "shaders_cpp/search.h"
 #include "shaders_cpp/shadow.h"
-#include "shaders_cpp/shadow_map.h"
 
 namespace relief {
 
 enum ReliefSlot { kBaseColorSlot = 0, kNormalSlot = 1, kDepthSlot = 2 };
 
-inline constexpr TextureSlotSpec kBaseColorSlotSpec = {
-    "base_color", false, "sRGB base colour, multiplied by the material's base colour"};
-inline constexpr TextureSlotSpec kNormalSlotSpec = {
-    "normal", false, "tangent-space normal map (x along +u, y along +v, z out), linear RGB"};
 inline constexpr TextureSlotSpec kDepthSlotSpec = {
     "depth", true, "depth map: 0 at the reference surface, 1 deepest, linear"};
 inline constexpr TextureSlotSpec kReliefSlots[] = {kBaseColorSlotSpec, kNormalSlotSpec,
@@ -100,19 +94,8 @@ template <class Search, EffectMask kEffects> struct ReliefKernel {
     if constexpr (kShadowPass) {
       return o;
     } else {
-      V3<F> n = tf.n;
-      if (const Texture* t = m.textures[kNormalSlot]) {
-        const V4<F> c = texture_grad(*t, m.samplers[kNormalSlot], hit.uv, in.duv_dx, in.duv_dy);
-        n = normalize(tf.to_world(V3<F>(c.x * F(2.0f) - F(1.0f), c.y * F(2.0f) - F(1.0f),
-                                        c.z * F(2.0f) - F(1.0f))));
-        o.fetches += F(1.0f);
-      }
-      V3<F> albedo(glm::vec3(m.base_color));
-      if (const Texture* t = m.textures[kBaseColorSlot]) {
-        const V4<F> c = texture_grad(*t, m.samplers[kBaseColorSlot], hit.uv, in.duv_dx, in.duv_dy);
-        albedo = albedo * c.xyz();
-        o.fetches += F(1.0f);
-      }
+      const V3<F> n = sample_normal_map(m, kNormalSlot, tf, hit.uv, in, F(1.0f), o.fetches);
+      const V3<F> albedo = sample_albedo(m, kBaseColorSlot, hit.uv, in, o.fetches);
       // lighting at the displaced point: self-shadow ray, then the light's shadow map (lit lanes)
       auto visibility = [&](int i, V3<F> l, mask_t<F> lit) -> F {
         F vis(1.0f);
