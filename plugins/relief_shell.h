@@ -77,10 +77,13 @@ template <class Search, EffectMask kEffects> struct ReliefKernel {
     depth.sampler = &m.samplers[kDepthSlot];
     SearchHit<F> hit{in.uv, F(0.0f), F(0.0f), F(0.0f)};
     if (dtex) {
-      // constant LOD per quad, outside the loops
+      // constant LOD per quad, outside the loops: the derivatives are per quad, so the LOD is
+      // computed at a quad's first lane and copied to the other three
       for (int i = 0; i < lane_width<F>; ++i)
-        depth.lod[i] = compute_lod(*dtex, {lane(in.duv_dx.x, i), lane(in.duv_dx.y, i)},
-                                   {lane(in.duv_dy.x, i), lane(in.duv_dy.y, i)});
+        depth.lod[i] = (i > 0 && ((in.lane0 + i) & 3) != 0)
+                           ? depth.lod[i - 1]
+                           : compute_lod(*dtex, {lane(in.duv_dx.x, i), lane(in.duv_dx.y, i)},
+                                         {lane(in.duv_dy.x, i), lane(in.duv_dy.y, i)});
       hit = Search::search(ctx, in, depth, V, ds, active);
     }
     o.hit_uv = hit.uv;
