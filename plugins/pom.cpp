@@ -16,19 +16,13 @@ const ParamSpec kParams[] = {
     kShadowStepsSpec,
 };
 
-struct PomSearch {
+struct PomSearch : MarchedShadow<kShadowStepsParam> {
   static constexpr int kDepthScale = kDepthScaleParam;
   template <class F>
   static SearchHit<F> search(const ShadeContext& ctx, const FragIn<F>& in, const TextureDepth& depth,
                              const V3<F>& V, const V2<F>& ds, mask_t<F> active) {
     const float* p = ctx.material->params;
     return pom_search(depth, in.uv, ds, relief_step_count(V.z, p[kMinSteps], p[kSteps]), active);
-  }
-  template <class F>
-  static F shadow(const ShadeContext& ctx, const TextureDepth& depth, const SearchHit<F>& hit,
-                  const V2<F>& dl, const F& lz, mask_t<F> lit, ShadeOut<F>& o) {
-    const int steps = static_cast<int>(ctx.material->params[kShadowStepsParam]);
-    return marched_shadow(depth, hit, dl, lz, steps, 0.01f, lit, o);
   }
 };
 

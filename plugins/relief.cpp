@@ -18,7 +18,7 @@ const ParamSpec kParams[] = {
     kShadowStepsSpec,
 };
 
-struct ReliefSearch {
+struct ReliefSearch : MarchedShadow<kShadowStepsParam> {
   static constexpr int kDepthScale = kDepthScaleParam;
   template <class F>
   static SearchHit<F> search(const ShadeContext& ctx, const FragIn<F>& in, const TextureDepth& depth,
@@ -26,12 +26,6 @@ struct ReliefSearch {
     const float* p = ctx.material->params;
     const F n = relief_step_count(V.z, p[kMinSteps], p[kSteps]);
     return relief_search(depth, in.uv, ds, n, static_cast<int>(p[kBinarySteps]), active);
-  }
-  template <class F>
-  static F shadow(const ShadeContext& ctx, const TextureDepth& depth, const SearchHit<F>& hit,
-                  const V2<F>& dl, const F& lz, mask_t<F> lit, ShadeOut<F>& o) {
-    const int steps = static_cast<int>(ctx.material->params[kShadowStepsParam]);
-    return marched_shadow(depth, hit, dl, lz, steps, 0.01f, lit, o);
   }
 };
 

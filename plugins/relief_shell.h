@@ -19,7 +19,8 @@
 //   // texture-space step dl; adds its steps and fetches to `o`
 //   template <class F> static F shadow(const ShadeContext&, const TextureDepth& depth,
 //       const SearchHit<F>& hit, const V2<F>& dl, const F& lz, mask_t<F> lit, ShadeOut<F>& o);
-// and the plugin's descriptor takes `&select_relief_variant<Policy>` and `&relief_depth_output`.
+// (MarchedShadow<index> supplies `shadow` for the plain marched ray) and the plugin's descriptor
+// takes `&select_relief_variant<Policy>` and `&relief_depth_output`.
 // Texture slots 0, 1, 2 are base_color, normal and depth in every plugin built on the shell.
 #pragma once
 
@@ -160,5 +161,16 @@ F marched_shadow(const TextureDepth& depth, const SearchHit<F>& hit, const V2<F>
   o.fetches += sr.fetches;
   return sr.visibility;
 }
+
+// The marched shadow as a policy's `shadow` member, for techniques whose ray starts 0.01 depth
+// units above the hit and takes the schema's shadow_steps (at index kStepsParam).
+template <int kStepsParam> struct MarchedShadow {
+  template <class F>
+  static F shadow(const ShadeContext& ctx, const TextureDepth& depth, const SearchHit<F>& hit,
+                  const V2<F>& dl, const F& lz, mask_t<F> lit, ShadeOut<F>& o) {
+    const int steps = static_cast<int>(ctx.material->params[kStepsParam]);
+    return marched_shadow(depth, hit, dl, lz, steps, 0.01f, lit, o);
+  }
+};
 
 }  // namespace relief
