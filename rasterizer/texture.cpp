@@ -6,70 +6,31 @@
 #include <array>
 #include <cmath>
 #include <cstring>
+#include <iterator>
 
 #include "rasterizer/check.h"
 
 namespace relief {
 
-int format_channels(TexFormat f) {
-  switch (f) {
-    case TexFormat::kR8:
-      return 1;
-    case TexFormat::kRG8:
-      return 2;
-    case TexFormat::kRGBA8:
-      return 4;
-    case TexFormat::kR16:
-      return 1;
-    case TexFormat::kR16F:
-      return 1;
-    case TexFormat::kRGBA16F:
-      return 4;
-    case TexFormat::kR32F:
-      return 1;
-  }
-  return 0;
-}
+namespace {
 
-int format_bytes_per_texel(TexFormat f) {
-  switch (f) {
-    case TexFormat::kR8:
-      return 1;
-    case TexFormat::kRG8:
-      return 2;
-    case TexFormat::kRGBA8:
-      return 4;
-    case TexFormat::kR16:
-      return 2;
-    case TexFormat::kR16F:
-      return 2;
-    case TexFormat::kRGBA16F:
-      return 8;
-    case TexFormat::kR32F:
-      return 4;
-  }
-  return 0;
-}
+// One row per TexFormat, in enum order: channels, bytes per texel, name.
+struct FormatInfo {
+  int channels;
+  int bytes;
+  const char* name;
+};
+constexpr FormatInfo kFormats[] = {
+    {1, 1, "R8"}, {2, 2, "RG8"}, {4, 4, "RGBA8"}, {1, 2, "R16"},
+    {1, 2, "R16F"}, {4, 8, "RGBA16F"}, {1, 4, "R32F"},
+};
+static_assert(std::size(kFormats) == static_cast<size_t>(TexFormat::kR32F) + 1);
 
-const char* format_name(TexFormat f) {
-  switch (f) {
-    case TexFormat::kR8:
-      return "R8";
-    case TexFormat::kRG8:
-      return "RG8";
-    case TexFormat::kRGBA8:
-      return "RGBA8";
-    case TexFormat::kR16:
-      return "R16";
-    case TexFormat::kR16F:
-      return "R16F";
-    case TexFormat::kRGBA16F:
-      return "RGBA16F";
-    case TexFormat::kR32F:
-      return "R32F";
-  }
-  return "?";
-}
+}  // namespace
+
+int format_channels(TexFormat f) { return kFormats[static_cast<int>(f)].channels; }
+int format_bytes_per_texel(TexFormat f) { return kFormats[static_cast<int>(f)].bytes; }
+const char* format_name(TexFormat f) { return kFormats[static_cast<int>(f)].name; }
 
 namespace {
 
