@@ -14,6 +14,30 @@ glm::vec3 perpendicular(glm::vec3 n) {
   return {1.0f + sign * n.x * n.x * a, sign * b, -sign * n.x};
 }
 
+// A triangle's edges in object space and in uv, and the uv determinant.
+struct UvTriangle {
+  glm::vec3 e1, e2;
+  glm::vec2 d1, d2;
+  float det;
+};
+
+// Calls fn(indices, triangle) for every triangle whose uv mapping is not degenerate (|det| >=
+// 1e-20); nothing when the mesh has no uv per vertex.
+template <class Fn> void for_each_uv_triangle(const Mesh& m, Fn&& fn) {
+  if (m.uvs.size() != m.positions.size()) return;
+  for (size_t t = 0; t + 2 < m.indices.size(); t += 3) {
+    const uint32_t* i = &m.indices[t];
+    UvTriangle u;
+    u.e1 = m.positions[i[1]] - m.positions[i[0]];
+    u.e2 = m.positions[i[2]] - m.positions[i[0]];
+    u.d1 = m.uvs[i[1]] - m.uvs[i[0]];
+    u.d2 = m.uvs[i[2]] - m.uvs[i[0]];
+    u.det = u.d1.x * u.d2.y - u.d2.x * u.d1.y;
+    if (std::fabs(u.det) < 1e-20f) continue;  // degenerate uv: contributes nothing
+    fn(i, u);
+  }
+}
+
 }  // namespace
 
 void compute_normals(Mesh& m) {
@@ -35,25 +59,16 @@ void compute_normals(Mesh& m) {
 void compute_tangents(Mesh& m) {
   const size_t nv = m.positions.size();
   std::vector<glm::vec3> tan(nv, glm::vec3(0.0f)), bit(nv, glm::vec3(0.0f));
-  if (m.uvs.size() == nv) {
-    for (size_t t = 0; t + 2 < m.indices.size(); t += 3) {
-      const uint32_t i[3] = {m.indices[t], m.indices[t + 1], m.indices[t + 2]};
-      const glm::vec3 e1 = m.positions[i[1]] - m.positions[i[0]];
-      const glm::vec3 e2 = m.positions[i[2]] - m.positions[i[0]];
-      const glm::vec2 d1 = m.uvs[i[1]] - m.uvs[i[0]];
-      const glm::vec2 d2 = m.uvs[i[2]] - m.uvs[i[0]];
-      const float det = d1.x * d2.y - d2.x * d1.y;
-      if (std::fabs(det) < 1e-20f) continue;  // degenerate uv: contributes nothing
-      // dP/du and dP/dv scaled by the uv area (|det|), i.e. area-weighted.
-      const float s = det > 0.0f ? 1.0f : -1.0f;
-      const glm::vec3 dpdu = (e1 * d2.y - e2 * d1.y) * s;
-      const glm::vec3 dpdv = (e2 * d1.x - e1 * d2.x) * s;
-      for (uint32_t k : i) {
-        tan[k] += dpdu;
-        bit[k] += dpdv;
-      }
+  for_each_uv_triangle(m, [&](const uint32_t* i, const UvTriangle& u) {
+    // dP/du and dP/dv scaled by the uv area (|det|), i.e. area-weighted.
+    const float s = u.det > 0.0f ? 1.0f : -1.0f;
+    const glm::vec3 dpdu = (u.e1 * u.d2.y - u.e2 * u.d1.y) * s;
+    const glm::vec3 dpdv = (u.e2 * u.d1.x - u.e1 * u.d2.x) * s;
+    for (int k = 0; k < 3; ++k) {
+      tan[i[k]] += dpdu;
+      bit[i[k]] += dpdv;
     }
-  }
+  });
   m.tangents.resize(nv);
   for (size_t k = 0; k < nv; ++k) {
     const glm::vec3 n = glm::normalize(m.normals[k]);
@@ -72,21 +87,13 @@ void compute_tangents(Mesh& m) {
 void compute_tile_scale(Mesh& m) {
   const size_t nv = m.positions.size();
   std::vector<glm::vec3> acc(nv, glm::vec3(0.0f));  // (sum |dP/du| * a, sum |dP/dv| * a, sum a)
-  if (m.uvs.size() == nv) {
-    for (size_t t = 0; t + 2 < m.indices.size(); t += 3) {
-      const uint32_t i[3] = {m.indices[t], m.indices[t + 1], m.indices[t + 2]};
-      const glm::vec3 e1 = m.positions[i[1]] - m.positions[i[0]];
-      const glm::vec3 e2 = m.positions[i[2]] - m.positions[i[0]];
-      const glm::vec2 d1 = m.uvs[i[1]] - m.uvs[i[0]];
-      const glm::vec2 d2 = m.uvs[i[2]] - m.uvs[i[0]];
-      const float det = d1.x * d2.y - d2.x * d1.y;
-      if (std::fabs(det) < 1e-20f) continue;
-      const glm::vec3 dpdu = (e1 * d2.y - e2 * d1.y) / det;
-      const glm::vec3 dpdv = (e2 * d1.x - e1 * d2.x) / det;
-      const float area = 0.5f * glm::length(glm::cross(e1, e2));
-      for (uint32_t k : i) acc[k] += glm::vec3(glm::length(dpdu), glm::length(dpdv), 1.0f) * area;
-    }
-  }
+  for_each_uv_triangle(m, [&](const uint32_t* i, const UvTriangle& u) {
+    const glm::vec3 dpdu = (u.e1 * u.d2.y - u.e2 * u.d1.y) / u.det;
+    const glm::vec3 dpdv = (u.e2 * u.d1.x - u.e1 * u.d2.x) / u.det;
+    const float area = 0.5f * glm::length(glm::cross(u.e1, u.e2));
+    for (int k = 0; k < 3; ++k)
+      acc[i[k]] += glm::vec3(glm::length(dpdu), glm::length(dpdv), 1.0f) * area;
+  });
   m.tile_scale.resize(nv);
   for (size_t k = 0; k < nv; ++k)
     m.tile_scale[k] = acc[k].z > 0.0f ? glm::vec2(acc[k].x, acc[k].y) / acc[k].z : glm::vec2(1.0f);
