@@ -16,9 +16,8 @@
 #include <string>
 #include <vector>
 
-#include <glm/gtc/matrix_transform.hpp>
-
 #include "bake/cone_map.h"
+#include "packet_fixture.h"
 #include "plugins/builtin.h"
 #include "plugins/registry.h"
 #include "render/derived_maps.h"
@@ -87,37 +86,11 @@ struct Packet {
                                                      : ConeKind::kRelaxed;
     o.bilinear = o.kind != ConeKind::kRelaxed;
     cone = bake_cone_map(depth, o);
-    frame.eye = glm::vec3(-0.3f, 0.1f, 0.8f);
-    glm::mat4 proj(0.0f);  // infinite reversed-Z, near 0.1
-    proj[0][0] = 1.0f;
-    proj[1][1] = 1.0f;
-    proj[2][3] = -1.0f;
-    proj[3][2] = 0.1f;
-    frame.view = glm::lookAt(frame.eye, glm::vec3(0.4f, 0.6f, 0.0f), glm::vec3(0, 0, 1));
-    frame.view_proj = proj * frame.view;
-    frame.num_lights = 1;
-    frame.lights[0].type = LightType::kDirectional;
-    frame.lights[0].direction = glm::normalize(glm::vec3(0.6f, 0.2f, -0.5f));
+    testing::set_oblique_frame(frame);
     for (int i = 0; i < p.num_params; ++i) material.params[i] = p.params[i].default_value;
     material.textures[2] = &depth;
     material.textures[3] = &cone;
-    packet.num_quads = kPacketQuads;
-    packet.num_varyings = varying::kCount;
-    packet.front_facing = true;
-    for (int q = 0; q < kPacketQuads; ++q) {
-      packet.coverage[q] = q == 5 ? 0x6 : 0xF;  // one partly covered quad
-      for (int l = 0; l < 4; ++l) {
-        const int ln = q * 4 + l;
-        const float x = 0.4f + 0.004f * ((q % 4) * 2 + (l & 1));
-        const float y = 0.6f + 0.004f * ((q / 4) * 2 + (l >> 1));
-        const float vals[varying::kCount] = {x, y, 0, 0, 0, 1, 1, 0, 0, 1, x, y, 0, 0, 1, 1};
-        for (int k = 0; k < varying::kCount; ++k) packet.varyings[k][ln] = vals[k];
-        const glm::vec4 c = frame.view_proj * glm::vec4(x, y, 0.0f, 1.0f);
-        packet.frag_x[ln] = static_cast<float>(ln);
-        packet.frag_z[ln] = c.z / c.w;
-        packet.inv_w[ln] = 1.0f / c.w;
-      }
-    }
+    testing::fill_plane_packet(packet, frame, 0.004f, /*partial_quad=*/5);
   }
   std::unique_ptr<FragmentOutput> shade(const PluginDescriptor& p, EffectMask e, bool scalar,
                                         WorkCounters& wc) {

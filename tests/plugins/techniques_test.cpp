@@ -10,9 +10,8 @@
 #include <memory>
 #include <vector>
 
-#include <glm/gtc/matrix_transform.hpp>
-
 #include "plugins/plugin.h"
+#include "packet_fixture.h"
 #include "plugins/registry.h"
 
 namespace relief {
@@ -55,39 +54,12 @@ struct Scene {
   const float kSpacing = 0.004f;
 
   explicit Scene(const PluginDescriptor& p) {
-    frame.eye = glm::vec3(-0.3f, 0.1f, 0.8f);
-    glm::mat4 proj(0.0f);  // infinite reversed-Z, near 0.1
-    proj[0][0] = 1.0f;
-    proj[1][1] = 1.0f;
-    proj[2][3] = -1.0f;
-    proj[3][2] = 0.1f;
-    frame.view = glm::lookAt(frame.eye, glm::vec3(0.4f, 0.6f, 0.0f), glm::vec3(0, 0, 1));
-    frame.view_proj = proj * frame.view;
-    frame.num_lights = 1;
-    frame.lights[0].type = LightType::kDirectional;
-    frame.lights[0].direction = glm::normalize(glm::vec3(0.6f, 0.2f, -0.5f));
+    testing::set_oblique_frame(frame);
     for (int i = 0; i < p.num_params; ++i) material.params[i] = p.params[i].default_value;
     const int slot = depth_slot(p);
     material.textures[slot] = &depth;
     material.samplers[slot].filter = Filter::kTrilinear;
-    packet.num_quads = kPacketQuads;
-    packet.num_varyings = varying::kCount;
-    packet.front_facing = true;
-    for (int q = 0; q < kPacketQuads; ++q) {
-      packet.coverage[q] = 0xF;
-      for (int l = 0; l < 4; ++l) {
-        const int ln = q * 4 + l;
-        const float x = 0.4f + kSpacing * ((q % 4) * 2 + (l & 1));
-        const float y = 0.6f + kSpacing * ((q / 4) * 2 + (l >> 1));
-        const float vals[varying::kCount] = {x, y, 0, 0, 0, 1, 1, 0, 0, 1, x, y, 0, 0, 1, 1};
-        for (int k = 0; k < varying::kCount; ++k) packet.varyings[k][ln] = vals[k];
-        const glm::vec4 c = frame.view_proj * glm::vec4(x, y, 0.0f, 1.0f);
-        packet.frag_x[ln] = static_cast<float>(ln);
-        packet.frag_y[ln] = 0.0f;
-        packet.frag_z[ln] = c.z / c.w;
-        packet.inv_w[ln] = 1.0f / c.w;
-      }
-    }
+    testing::fill_plane_packet(packet, frame, kSpacing);
   }
   void set(const PluginDescriptor& p, const char* name, float v) {
     for (int i = 0; i < p.num_params; ++i)
