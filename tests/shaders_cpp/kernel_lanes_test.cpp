@@ -181,7 +181,9 @@ TEST(KernelLanes, DegenerateRaysAreFinite) {
           EXPECT_TRUE(std::isfinite(h.uv.x) && std::isfinite(h.uv.y)) << V.x << " " << scale;
           EXPECT_GE(h.depth, 0.0f);
           EXPECT_LE(h.depth, 1.0f);
-          if (scale == 0.0f) EXPECT_EQ(h.uv.x, uv.x);
+          if (scale == 0.0f) {
+            EXPECT_EQ(h.uv.x, uv.x);
+          }
         }
         V2<float> dl = light_step(V3<float>(-V.x, -V.y, -V.z), scale);
         ShadowResult<float> s = self_shadow(f, hits[0].uv, hits[0].depth, dl, -V.z, 32, 1e-3f, true);

@@ -42,7 +42,9 @@ TEST(Pattern, DepthHasOneTexelWallsAndIsInRange) {
       if (y == h) continue;
       EXPECT_EQ(t.fetch_r(0, 0, y), 0.0f);
       EXPECT_EQ(t.fetch_r(0, h, y), 0.0f);
-      if (y < h || (y - h) % 8 != 0) EXPECT_GT(t.fetch_r(0, 1, y), 0.0f);  // not a crossing wall
+      if (y < h || (y - h) % 8 != 0) {  // not a crossing wall
+        EXPECT_GT(t.fetch_r(0, 1, y), 0.0f);
+      }
       EXPECT_GT(t.fetch_r(0, h + 1, y), 0.0f);
     }
   }

@@ -162,7 +162,9 @@ void expect_non_increasing(const std::vector<double>& m, const char* name) {
   for (size_t i = 0; i < m.size(); ++i) {
     ::testing::Test::RecordProperty(
         std::string(name) + "_mean_texel_error_" + std::to_string(steps[i]), std::to_string(m[i]));
-    if (i > 0) EXPECT_LE(m[i], m[i - 1]) << name << " n=" << steps[i];
+    if (i > 0) {
+      EXPECT_LE(m[i], m[i - 1]) << name << " n=" << steps[i];
+    }
   }
 }
 
