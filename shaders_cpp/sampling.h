@@ -167,6 +167,14 @@ inline F lod_from_grad(const Texture& t, V2<F> dx, V2<F> dy) {
   return select(rho == rho, select(rho <= F(0.0f), F(-64.0f), lod), F(0.0f));
 }
 
+// Lane i of r = c.
+template <class F> inline void set_lane4(V4<F>& r, int i, const glm::vec4& c) {
+  set_lane(r.x, i, c.x);
+  set_lane(r.y, i, c.y);
+  set_lane(r.z, i, c.z);
+  set_lane(r.w, i, c.w);
+}
+
 }  // namespace detail
 
 template <class F>
@@ -177,10 +185,7 @@ inline V4<F> texture_grad(const Texture& t, const SamplerState& s, V2<F> uv, V2<
   for (int i = 0; i < lane_width<F>; ++i) {
     const glm::vec4 c = sample_grad(t, s, {lane(uv.x, i), lane(uv.y, i)},
                                     {lane(dx.x, i), lane(dx.y, i)}, {lane(dy.x, i), lane(dy.y, i)});
-    set_lane(r.x, i, c.x);
-    set_lane(r.y, i, c.y);
-    set_lane(r.z, i, c.z);
-    set_lane(r.w, i, c.w);
+    detail::set_lane4(r, i, c);
   }
   return r;
 }
@@ -191,10 +196,7 @@ inline V4<F> texture_lod(const Texture& t, const SamplerState& s, V2<F> uv, F lo
   V4<F> r;
   for (int i = 0; i < lane_width<F>; ++i) {
     const glm::vec4 c = sample_lod(t, s, {lane(uv.x, i), lane(uv.y, i)}, lane(lod, i));
-    set_lane(r.x, i, c.x);
-    set_lane(r.y, i, c.y);
-    set_lane(r.z, i, c.z);
-    set_lane(r.w, i, c.w);
+    detail::set_lane4(r, i, c);
   }
   return r;
 }
