@@ -412,17 +412,23 @@ class FastBaker {
   std::vector<Node> stack_;
 };
 
+// The output of a bake of `kind` over field f, zeroed.
+ConeRatios make_ratios(const Field& f, ConeKind kind) {
+  ConeRatios out;
+  out.width = f.w;
+  out.height = f.h;
+  out.channels = channels_of(kind);
+  out.values.resize(static_cast<size_t>(f.w) * f.h * out.channels);
+  return out;
+}
+
 }  // namespace
 
 ConeRatios bake_cone_ratios_brute_force(const Texture& depth, const ConeBakeOptions& options) {
   check_options(options);
   const Field f = read_field(depth, options.wrap);
   const Destinations dst = make_destinations(f, options.bilinear);
-  ConeRatios out;
-  out.width = f.w;
-  out.height = f.h;
-  out.channels = channels_of(options.kind);
-  out.values.resize(static_cast<size_t>(f.w) * f.h * out.channels);
+  ConeRatios out = make_ratios(f, options.kind);
   for_rows(f.h, options.threads, options.progress, [&](int y) {
     for (int x = 0; x < f.w; ++x)
       brute_texel(f, dst, options, x, y,
@@ -436,11 +442,7 @@ ConeRatios bake_cone_ratios(const Texture& depth, const ConeBakeOptions& options
   const Field f = read_field(depth, options.wrap);
   const Destinations dst = make_destinations(f, options.bilinear);
   const MinTree tree = build_tree(dst.grid);
-  ConeRatios out;
-  out.width = f.w;
-  out.height = f.h;
-  out.channels = channels_of(options.kind);
-  out.values.resize(static_cast<size_t>(f.w) * f.h * out.channels);
+  ConeRatios out = make_ratios(f, options.kind);
   for_rows(f.h, options.threads, options.progress, [&](int y) {
     FastBaker baker(f, dst, tree, options);
     for (int x = 0; x < f.w; ++x)
