@@ -19,9 +19,7 @@ template <bool kReceive> struct NormalKernel {
   template <class F> static ShadeOut<F> shade(const ShadeContext& ctx, const FragIn<F>& in) {
     const MaterialUniforms& m = *ctx.material;
     ShadeOut<F> o;
-    V3<F> geo_n = in.normal;
-    if (!in.front_facing) geo_n = -geo_n;
-    const TangentFrame<F> tf = make_tangent_frame(geo_n, in.tangent, in.tangent_sign);
+    const TangentFrame<F> tf = fragment_frame(in);
     const V3<F> n = sample_normal_map(m, kNormalSlot, tf, in.uv, in, F(m.params[0]), o.fetches);
     const V3<F> albedo = sample_albedo(m, kBaseColorSlot, in.uv, in, o.fetches);
     const V3<F> v = normalize(V3<F>(ctx.frame->eye) - in.position);

@@ -63,9 +63,7 @@ template <class Search, EffectMask kEffects> struct ReliefKernel {
   template <class F> static ShadeOut<F> shade(const ShadeContext& ctx, const FragIn<F>& in) {
     const MaterialUniforms& m = *ctx.material;
     ShadeOut<F> o;
-    V3<F> geo_n = in.normal;
-    if (!in.front_facing) geo_n = -geo_n;
-    const TangentFrame<F> tf = make_tangent_frame(geo_n, in.tangent, in.tangent_sign);
+    const TangentFrame<F> tf = fragment_frame(in);
     const V3<F> w = world_view_dir(in.position, ctx.frame->eye, ctx.frame->orthographic,
                                    ctx.frame->view_dir, -tf.n);
     const V3<F> V = tf.to_tangent(w);

@@ -15,6 +15,13 @@ inline constexpr TextureSlotSpec kBaseColorSlotSpec = {
 inline constexpr TextureSlotSpec kNormalSlotSpec = {
     "normal", false, "tangent-space normal map (x along +u, y along +v, z out), linear RGB"};
 
+// The fragment's tangent frame, re-orthonormalised, its normal flipped on back faces.
+template <class F> TangentFrame<F> fragment_frame(const FragIn<F>& in) {
+  V3<F> geo_n = in.normal;
+  if (!in.front_facing) geo_n = -geo_n;
+  return make_tangent_frame(geo_n, in.tangent, in.tangent_sign);
+}
+
 // The material's base colour times the texture in `slot` (when bound) at uv; adds one fetch.
 template <class F>
 V3<F> sample_albedo(const MaterialUniforms& m, int slot, const V2<F>& uv, const FragIn<F>& in,
