@@ -7,10 +7,11 @@ src="$(cd "$(dirname "$0")/.." && pwd)"
 build="$(cd "$1" && pwd)"
 work="$(mktemp -d)"
 trap 'rm -rf "$work"' EXIT
-cmake --install "$build" --prefix "$work/prefix" > "$work/install.log"
-cmake -S "$src/examples/embed" -B "$work/build" -DCMAKE_PREFIX_PATH="$work/prefix" \
-  -DCMAKE_BUILD_TYPE=Release > "$work/configure.log"
-cmake --build "$work/build" > "$work/build.log"
+quiet() { "$@" > "$work/step.log" 2>&1 || { cat "$work/step.log"; echo "failed: $*" >&2; exit 1; }; }
+quiet cmake --install "$build" --prefix "$work/prefix"
+quiet cmake -S "$src/examples/embed" -B "$work/build" -DCMAKE_PREFIX_PATH="$work/prefix" \
+  -DCMAKE_BUILD_TYPE=Release
+quiet cmake --build "$work/build"
 "$work/build/embed" "$src/scenes/pattern.gltf" "$work/embed.exr"
 "$work/prefix/bin/relief" render "$src/scenes/pattern.gltf" --size 800x600 -o "$work/cli.exr" > /dev/null
 "$work/prefix/bin/relief" compare "$work/embed.exr" "$work/cli.exr" --linear --max-rmse 0 --threshold 0 --max-over 0
