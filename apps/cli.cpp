@@ -14,7 +14,7 @@ int run(int argc, char** argv) {
   CLI::App app{"relief: per-fragment displacement (relief) mapping renderer"};
   app.require_subcommand(1);
   app.set_help_all_flag("--help-all", "Show help for every subcommand");
-  std::vector<Action> actions(7);
+  std::vector<Action> actions(8);
   register_render(app, actions[0]);
   register_techniques(app, actions[1]);
   register_scenes(app, actions[2]);
@@ -22,6 +22,7 @@ int run(int argc, char** argv) {
   register_info(app, actions[4]);
   register_bake(app, actions[5]);
   register_export(app, actions[6]);
+  register_bench(app, actions[7]);
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
