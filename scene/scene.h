@@ -3,6 +3,7 @@
 #pragma once
 
 #include <map>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -83,6 +84,8 @@ struct Camera {
   glm::mat4 projection(float aspect) const;
 };
 
+struct SceneAnimation;  // scene/animation.h
+
 struct Scene {
   std::string name;
   std::vector<Mesh> meshes;
@@ -92,6 +95,9 @@ struct Scene {
   std::vector<Camera> cameras;
   glm::vec3 ambient{0.03f};
   glm::vec4 background{0.0f, 0.0f, 0.0f, 1.0f};
+  // Animations, skins and morph targets with the rest data they start from (scene/animation.h,
+  // posed per frame by pose_scene); null for a static scene.
+  std::shared_ptr<const SceneAnimation> animation;
 };
 
 // Reversed-Z perspective and orthographic matrices (clip z = w at near, 0 at far).
