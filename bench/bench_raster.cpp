@@ -14,6 +14,7 @@ namespace {
 
 void run_plane(benchmark::State& state, const char* technique) {
   const int threads = static_cast<int>(state.range(0));
+  const bool recycle = state.range(1) != 0;  // hand each frame back: no allocation per frame
   Result<Scene> scene = make_builtin_scene("plane");
   RenderOptions opt;
   opt.width = 1920;
@@ -36,6 +37,7 @@ void run_plane(benchmark::State& state, const char* technique) {
     }
     other_ms += r->frame_ms - pass_ms;
     benchmark::DoNotOptimize(r->framebuffer.color.pixels.data());
+    if (recycle) backend->recycle(std::move(r).value());
   }
   state.SetItemsProcessed(static_cast<int64_t>(fragments));
   const double n = static_cast<double>(state.iterations());
@@ -48,8 +50,17 @@ void run_plane(benchmark::State& state, const char* technique) {
 void BM_Raster_Flat(benchmark::State& state) { run_plane(state, "flat"); }
 void BM_Raster_Normal(benchmark::State& state) { run_plane(state, "normal"); }
 
-BENCHMARK(BM_Raster_Flat)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
-BENCHMARK(BM_Raster_Normal)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
+// Arguments: threads, recycle (0: a new framebuffer every frame, as a one-frame render has).
+BENCHMARK(BM_Raster_Flat)
+    ->ArgsProduct({{1, 2}, {0, 1}})
+    ->ArgNames({"threads", "recycle"})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
+BENCHMARK(BM_Raster_Normal)
+    ->ArgsProduct({{1, 2}, {0, 1}})
+    ->ArgNames({"threads", "recycle"})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
 
 }  // namespace
 }  // namespace relief

@@ -66,6 +66,7 @@ void run_technique(benchmark::State& state, const Case& c) {
     }
     for (const PassStats& p : r->passes) work += p.raster.work;
     benchmark::DoNotOptimize(r->framebuffer.color.pixels.data());
+    backend->recycle(std::move(r).value());
   }
   const double f = static_cast<double>(work.fragments);
   if (f == 0.0) return;

@@ -476,13 +476,34 @@ struct Rasterizer::Impl {
     flush(w, fb, dc);
   }
 
+  // Tile `tile`'s pixels in [x0, x1] x [y0, y1] (inclusive), clipped to the target.
+  void tile_rect(const Framebuffer& fb, int tile, int& x0, int& y0, int& x1, int& y1) const {
+    const int tx = tile % tiles_x, ty = tile / tiles_x;
+    x0 = tx * this->tile;
+    y0 = ty * this->tile;
+    x1 = std::min(x0 + this->tile, fb.width) - 1;
+    y1 = std::min(y0 + this->tile, fb.height) - 1;
+  }
+
+  // Clears one tile's rows of every plane the target has (a depth-only target has no colour).
+  void clear_tile(Framebuffer& fb, const ClearValues& c, int tile) const {
+    int x0, y0, x1, y1;
+    tile_rect(fb, tile, x0, y0, x1, y1);
+    const size_t n = static_cast<size_t>(x1 - x0 + 1);
+    for (int y = y0; y <= y1; ++y) {
+      const size_t row = static_cast<size_t>(y) * fb.width + x0;
+      if (!fb.color.pixels.empty()) std::fill_n(fb.color.pixels.begin() + row, n, c.color);
+      if (!fb.depth.values.empty()) std::fill_n(fb.depth.values.begin() + row, n, c.depth);
+      if (!fb.aov.empty())
+        std::fill_n(fb.aov.begin() + row * kAovTotalChannels, n * kAovTotalChannels, 0.0f);
+    }
+  }
+
   // One tile: its triangles in submission order. Compiled for the baseline and for AVX2.
   [[gnu::always_inline]] inline void raster_tile_body(Worker& w, Framebuffer& fb,
                                                       std::span<const DrawCall> draws, int tile) {
-    const int tx = tile % tiles_x, ty = tile / tiles_x;
-    const int x0 = tx * this->tile, y0 = ty * this->tile;
-    const int x1 = std::min(x0 + this->tile, fb.width) - 1;
-    const int y1 = std::min(y0 + this->tile, fb.height) - 1;
+    int x0, y0, x1, y1;
+    tile_rect(fb, tile, x0, y0, x1, y1);
     for (uint32_t ti : bins[tile]) {
       const SetupTriangle& t = tris[ti];
       raster_triangle(w, fb, draws[t.draw], t, x0, y0, x1, y1);
@@ -505,7 +526,8 @@ Rasterizer::Rasterizer(ThreadPool& pool, RasterConfig config)
 
 Rasterizer::~Rasterizer() = default;
 
-RasterStats Rasterizer::draw(Framebuffer& fb, std::span<const DrawCall> draws) {
+RasterStats Rasterizer::draw(Framebuffer& fb, std::span<const DrawCall> draws,
+                             const ClearValues* clear) {
   using Clock = std::chrono::steady_clock;
   const auto t0 = Clock::now();
   Impl& im = *impl_;
@@ -536,6 +558,7 @@ RasterStats Rasterizer::draw(Framebuffer& fb, std::span<const DrawCall> draws) {
   const bool avx2 = simd_avx2();
   pool_.run(im.tiles_x * im.tiles_y, [&](int tile, int worker) {
     Impl::Worker& w = *im.workers[worker];
+    if (clear) im.clear_tile(fb, *clear, tile);
     if (avx2)
       im.raster_tile_avx2(w, fb, draws, tile);
     else

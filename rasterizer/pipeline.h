@@ -75,12 +75,22 @@ struct RasterStats {
 inline constexpr int kMaxTargetSize = 16384;
 inline constexpr int kGuardBand = 32768;
 
+// What a pass starts from. Given to Rasterizer::draw, each tile clears its own pixels (colour,
+// depth and AOVs) just before drawing them: in parallel, and while they are in cache, instead of a
+// serial pass over the whole target.
+struct ClearValues {
+  glm::vec4 color{0.0f};
+  float depth = 0.0f;
+};
+
 class Rasterizer {
  public:
   Rasterizer(ThreadPool& pool, RasterConfig config = {});
   ~Rasterizer();
-  // Renders `draws` in order into `fb` (which the caller cleared). Not re-entrant.
-  RasterStats draw(Framebuffer& fb, std::span<const DrawCall> draws);
+  // Renders `draws` in order into `fb`: cleared to `*clear` tile by tile when given, else as the
+  // caller left it. Not re-entrant.
+  RasterStats draw(Framebuffer& fb, std::span<const DrawCall> draws,
+                   const ClearValues* clear = nullptr);
   const RasterConfig& config() const { return config_; }
 
  private:

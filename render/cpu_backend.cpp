@@ -73,8 +73,13 @@ class CpuBackend final : public Backend {
     const auto t0 = Clock::now();
     RenderResult result;
     result.device = "cpu (" + std::to_string(pool_.size()) + " threads)";
-    result.framebuffer = Framebuffer(opt.width, opt.height, opt.aovs);
-    result.framebuffer.clear(scene.background, 0.0f);
+    // The main target: a recycled one of the same shape, else a new one; the rasterizer clears it
+    // tile by tile.
+    if (spare_.width == opt.width && spare_.height == opt.height && spare_.aov_mask == opt.aovs)
+      result.framebuffer = std::move(spare_);
+    else
+      result.framebuffer = Framebuffer(opt.width, opt.height, opt.aovs);
+    spare_ = Framebuffer();
 
     // Plugin state (derived maps) per material, built once per frame here.
     std::vector<std::unique_ptr<void, void (*)(void*)>> states;
@@ -124,13 +129,19 @@ class CpuBackend final : public Backend {
     const auto t1 = Clock::now();
     PassStats main;
     main.name = "main";
-    main.raster = rasterizer_->draw(result.framebuffer, draws);
+    const ClearValues clear{scene.background, 0.0f};
+    main.raster = rasterizer_->draw(result.framebuffer, draws, &clear);
     const auto t2 = Clock::now();
     main.ms = ms_between(t1, t2);
     result.passes.push_back(main);
     result.frame_ms = ms_between(t0, t2);
+    shadow_planes_.clear();  // keep this frame's maps only
+    for (std::vector<Plane>& faces : maps)
+      for (Plane& face : faces) shadow_planes_.push_back(std::move(face));
     return result;
   }
+
+  void recycle(RenderResult&& done) override { spare_ = std::move(done.framebuffer); }
 
  private:
   // Renders the depth maps of one shadow pass: every caster from each face of the light's view,
@@ -172,11 +183,12 @@ class CpuBackend final : public Backend {
         }
         draws.push_back(dc);
       }
-      // Depth only: no colour image is allocated.
+      // Depth only: no colour image; the depth plane comes from the previous frames' maps.
       Framebuffer fb;
       fb.width = fb.height = s.size;
-      fb.depth = Plane(s.size, s.size, 0.0f);
-      add_raster(stats.raster, rasterizer_->draw(fb, draws));
+      fb.depth = take_shadow_plane(s.size);
+      const ClearValues far_plane{glm::vec4(0.0f), 0.0f};
+      add_raster(stats.raster, rasterizer_->draw(fb, draws, &far_plane));
       faces.push_back(std::move(fb.depth));
     }
     stats.ms = ms_between(t0, Clock::now());
@@ -184,8 +196,21 @@ class CpuBackend final : public Backend {
     return faces;
   }
 
+  // A shadow-map plane of size x size: one kept from an earlier frame when there is one.
+  Plane take_shadow_plane(int size) {
+    for (size_t i = 0; i < shadow_planes_.size(); ++i)
+      if (shadow_planes_[i].width == size && shadow_planes_[i].height == size) {
+        Plane p = std::move(shadow_planes_[i]);
+        shadow_planes_.erase(shadow_planes_.begin() + static_cast<std::ptrdiff_t>(i));
+        return p;
+      }
+    return Plane(size, size);
+  }
+
   ThreadPool pool_;
   std::unique_ptr<Rasterizer> rasterizer_;
+  Framebuffer spare_;                // from recycle(): the next frame's main target
+  std::vector<Plane> shadow_planes_; // the last frame's shadow maps, reused by the next
 };
 
 }  // namespace

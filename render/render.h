@@ -115,6 +115,10 @@ class Backend {
   virtual std::string name() const = 0;
   virtual Result<RenderResult> render(const Scene& scene, const Plan& plan,
                                       const RenderOptions& options) = 0;
+  // Hands a finished frame back once its images are no longer needed, so that the next render()
+  // of the same size reuses its buffers instead of allocating and faulting them in again
+  // (multi-frame renders, benchmarks). Optional; the default drops them.
+  virtual void recycle(RenderResult&& done) {}
 };
 
 // The CPU backend keeps its thread pool between frames.
