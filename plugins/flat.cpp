@@ -17,7 +17,7 @@ template <bool kReceive> struct FlatKernel {
     V3<F> n = normalize(in.normal);
     if (!in.front_facing) n = -n;
     const V3<F> albedo = sample_albedo(m, kBaseColorSlot, in.uv, in, o.fetches);
-    const V3<F> v = normalize(V3<F>(ctx.frame->eye) - in.position);
+    const V3<F> v = to_eye(*ctx.frame, in.position);
     o.color = shade_lights<kReceive>(ctx, in.position, n, n, v, albedo, o.fetches);
     o.alpha = F(m.base_color.a);
     o.hit_uv = in.uv;

@@ -22,7 +22,7 @@ template <bool kReceive> struct NormalKernel {
     const TangentFrame<F> tf = fragment_frame(in);
     const V3<F> n = sample_normal_map(m, kNormalSlot, tf, in.uv, in, F(m.params[0]), o.fetches);
     const V3<F> albedo = sample_albedo(m, kBaseColorSlot, in.uv, in, o.fetches);
-    const V3<F> v = normalize(V3<F>(ctx.frame->eye) - in.position);
+    const V3<F> v = to_eye(*ctx.frame, in.position);
     // shadow maps compare against the polygon's plane (tf.n), which is where the point is
     o.color = shade_lights<kReceive>(ctx, in.position, n, tf.n, v, albedo, o.fetches);
     o.alpha = F(m.base_color.a);

@@ -49,6 +49,12 @@ V3<F> sample_normal_map(const MaterialUniforms& m, int slot, const TangentFrame<
                                      c.z * F(2.0f) - F(1.0f))));
 }
 
+// Unit direction from the fragment at p to the eye: normalize(eye - p) for perspective views, the
+// reversed view direction for orthographic ones (where every eye ray is parallel).
+template <class F> V3<F> to_eye(const FrameUniforms& frame, const V3<F>& p) {
+  return frame.orthographic ? V3<F>(-frame.view_dir) : normalize(V3<F>(frame.eye) - p);
+}
+
 // Blinn-Phong at p for the frame's lights; with kReceive, each light's shadow map (if it has one)
 // is compared against the plane through p with normal `receiver_n` (counted into `fetches`).
 template <bool kReceive, class F>

@@ -10,7 +10,19 @@ const int kNormalSlot = 1;
 // Parameters, schema order.
 const int kNormalStrength = 0;
 
-float visibility(int i, vec3 l) { return 1.0; }  // NoShadow
+#include "shadow_map.glsl"
+
+// The C++ ShadowMapReceiver (EFFECT_RECEIVE_SHADOW): light i's map at the polygon point, compared
+// against the plane with normal recv_n; NoShadow otherwise.
+vec3 recv_p, recv_n;
+float recv_fetches;
+float visibility(int i, vec3 l) {
+#if EFFECT_RECEIVE_SHADOW
+  return shadow_map_visibility(i, recv_p, recv_n, l, recv_fetches);
+#else
+  return 1.0;
+#endif
+}
 
 ShadeOut shade(FragIn in_) {
   ShadeOut o = shade_out_default();
@@ -31,8 +43,12 @@ ShadeOut shade(FragIn in_) {
     albedo = albedo * c.xyz;
     o.fetches += 1.0;
   }
-  vec3 v = normalize_safe(frame.eye - in_.position);
+  vec3 v = frame.orthographic ? -frame.view_dir : normalize_safe(frame.eye - in_.position);
+  recv_p = in_.position;
+  recv_n = tf.n;
+  recv_fetches = o.fetches;
   o.color = blinn_phong(in_.position, n, v, albedo);
+  o.fetches = recv_fetches;
   o.alpha = material.base_color.a;
   o.hit_uv = in_.uv;
   o.shading_normal = n;
