@@ -1,11 +1,321 @@
-// `relief bench`: the accuracy/cost sweep (sweep/sweep.h) from the command line.
+// `relief bench`: the accuracy/cost sweep of the relief techniques (sweep/sweep.h, issue 8) and
+// `--target-error`, the cheapest setting per material of a scene under an error target.
+#include <unistd.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <memory>
+#include <sstream>
+
 #include "apps/commands.h"
+#include "apps/output.h"
+#include "apps/scene_source.h"
+#include "plugins/registry.h"
+#include "sweep/sweep.h"
 
 namespace relief::cli {
+namespace {
+
+struct BenchArgs {
+  std::string backend = "cpu";
+  std::string size = "256x256";
+  int threads = 0;
+  std::string angles = "0,30,60,75,85,89";
+  std::string steps = "8,16,32,64";
+  std::string techniques;
+  std::string fields = "bricks,pattern";
+  std::vector<std::string> depth_files;
+  float depth_scale = 0.05f;
+  bool height = false;
+  int warmup = 1;
+  int repeats = 5;
+  bool quick = false;
+  std::string csv, json, report;
+  double target_error = -1.0;
+  std::string scene;
+  std::string camera;
+  std::vector<std::string> plugins;
+  bool no_progress = false;
+  CLI::App* sub = nullptr;
+};
+
+std::vector<std::string> split(const std::string& s) {
+  std::vector<std::string> out;
+  std::stringstream in(s);
+  std::string item;
+  while (std::getline(in, item, ','))
+    if (!item.empty()) out.push_back(item);
+  return out;
+}
+
+Result<std::vector<double>> parse_numbers(const std::string& flag, const std::string& text,
+                                          double lo, double hi) {
+  std::vector<double> v;
+  for (const std::string& item : split(text)) {
+    char* end = nullptr;
+    const double x = std::strtod(item.c_str(), &end);
+    if (end == item.c_str() || *end || !(x >= lo && x <= hi))
+      return Status::usage(flag + ": expected numbers in [" + std::to_string(static_cast<int>(lo)) +
+                           ", " + std::to_string(static_cast<int>(hi)) + "], got '" + item + "'");
+    v.push_back(x);
+  }
+  if (v.empty()) return Status::usage(flag + ": expected a comma-separated list");
+  return v;
+}
+
+// The exact command line, from /proc (shell-quoted where needed).
+std::string command_line() {
+  std::ifstream in("/proc/self/cmdline", std::ios::binary);
+  std::string all((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  std::string out, arg;
+  auto flush = [&] {
+    const bool plain = !arg.empty() && arg.find_first_of(" \t'\"$\\*?;&|<>()") == std::string::npos;
+    out += (out.empty() ? "" : " ") + (plain ? arg : "'" + arg + "'");
+    arg.clear();
+  };
+  for (char c : all) {
+    if (c == '\0')
+      flush();
+    else
+      arg += c;
+  }
+  if (!arg.empty()) flush();
+  return out;
+}
+
+// A path's folder must exist before the sweep runs (no output at all on error).
+Status check_output(const std::string& flag, const std::string& path) {
+  if (path.empty()) return {};
+  const std::filesystem::path p(path);
+  const std::filesystem::path dir = p.has_parent_path() ? p.parent_path() : ".";
+  if (!std::filesystem::is_directory(dir))
+    return Status::error(flag + ": folder '" + dir.string() + "' does not exist");
+  return {};
+}
+
+class Progress {
+ public:
+  explicit Progress(bool on) : on_(on && isatty(2)) {}
+  ~Progress() { finish(); }
+  void operator()(int done, int total, const std::string& what) {
+    if (!on_) return;
+    const int width = 30, filled = total ? done * width / total : width;
+    std::fprintf(stderr, "\r[%s%s] %d/%d %-48.48s", std::string(filled, '#').c_str(),
+                 std::string(width - filled, '.').c_str(), done, total, what.c_str());
+    std::fflush(stderr);
+    shown_ = true;
+  }
+  void finish() {
+    if (shown_) std::fprintf(stderr, "\n");
+    shown_ = false;
+  }
+
+ private:
+  bool on_;
+  bool shown_ = false;
+};
+
+int do_target(const BenchArgs& a, const sweep::Options& opt,
+              const std::vector<sweep::Setting>& settings) {
+  const std::string scene_name = a.scene.empty() ? default_scene_source() : a.scene;
+  Result<Scene> scene = load_scene_source(scene_name);
+  if (!scene.ok()) return fail(scene.status().message(), scene.status().exit_code());
+  Result<int> camera = resolve_camera(*scene, a.camera);
+  if (!camera.ok()) return fail(camera.status().message(), camera.status().exit_code());
+  std::vector<sweep::Row> all;
+  std::ostringstream report;
+  bool any = false;
+  for (size_t m = 0; m < scene->materials.size(); ++m) {
+    const Material& mat = scene->materials[m];
+    Result<sweep::Field> field = sweep::field_of_material(*scene, static_cast<int>(m));
+    if (!field.ok()) {
+      report << "material '" << mat.name << "': no depth map, nothing to choose\n";
+      continue;
+    }
+    const std::vector<double> angles =
+        sweep::scene_view_angles(*scene, static_cast<int>(m), *camera, opt.width, opt.height);
+    if (angles.empty()) {
+      report << "material '" << mat.name << "': not seen by the camera, nothing to choose\n";
+      continue;
+    }
+    any = true;
+    sweep::Options o = opt;
+    o.angles = angles;
+    Progress progress(!a.no_progress);
+    o.progress = [&](int d, int t, const std::string& w) { progress(d, t, mat.name + ": " + w); };
+    Result<sweep::SweepResult> r = sweep::run_sweep({*field}, settings, o);
+    progress.finish();
+    if (!r.ok()) return fail(r.status().message(), r.status().exit_code());
+    const sweep::Pick p = sweep::pick_cheapest(r->rows, field->name, angles, a.target_error);
+    report << "material '" << mat.name << "': view angles";
+    for (double x : angles) report << " " << x;
+    report << " deg -> " << (p.found ? p.setting : std::string("none")) << "\n" << p.why;
+    all.insert(all.end(), r->rows.begin(), r->rows.end());
+  }
+  if (!any) return fail("scene '" + scene_name + "': no material with a depth map in view", 1);
+  std::printf("--target-error %g texel (p99 hit error) on %s, %dx%d:\n%s", a.target_error,
+              scene_name.c_str(), opt.width, opt.height, report.str().c_str());
+  if (!a.csv.empty()) {
+    Status s = write_text_atomic(a.csv, sweep::to_csv(all));
+    if (!s.ok()) return fail(s.message(), s.exit_code());
+  }
+  return 0;
+}
+
+int do_bench(BenchArgs& a) {
+  sweep::Options opt;
+  if (a.quick) {  // defaults of the small sweep; explicit options still win
+    if (!a.sub->count("--size")) a.size = "128x128";
+    if (!a.sub->count("--angles")) a.angles = "0,60,85";
+    if (!a.sub->count("--steps")) a.steps = "8,32";
+    if (!a.sub->count("--repeats")) a.repeats = 3;
+  }
+  Status s = parse_size(a.size, opt.width, opt.height);
+  if (!s.ok()) return fail(s.message(), s.exit_code());
+  if (a.threads < 0 || a.threads > 256) return fail("--threads: expected 0..256", 2);
+  if (a.repeats < 1 || a.repeats > 1000) return fail("--repeats: expected 1..1000", 2);
+  if (a.warmup < 0 || a.warmup > 100) return fail("--warmup: expected 0..100", 2);
+  opt.threads = a.threads;
+  opt.repeats = a.repeats;
+  opt.warmup = a.warmup;
+  Result<std::vector<double>> angles = parse_numbers("--angles", a.angles, 0.0, 89.9);
+  if (!angles.ok()) return fail(angles.status().message(), 2);
+  opt.angles = *angles;
+  Result<std::vector<double>> steps = parse_numbers("--steps", a.steps, 1.0, 256.0);
+  if (!steps.ok()) return fail(steps.status().message(), 2);
+  std::vector<int> step_counts;
+  for (double x : *steps) step_counts.push_back(static_cast<int>(std::lround(x)));
+  const std::vector<std::string> backends = split(a.backend);
+  for (const std::string& b : backends) {
+    if (b != "cpu" && b != "gl")
+      return fail("--backend: expected cpu, gl or cpu,gl, got '" + a.backend + "'", 2);
+  }
+  opt.gl = std::find(backends.begin(), backends.end(), "gl") != backends.end();
+  // accuracy is always measured on the CPU backend; `gl` alone still needs its rows
+  opt.cpu = true;
+  if (a.target_error != -1.0 && !(a.target_error > 0.0 && std::isfinite(a.target_error)))
+    return fail("--target-error: expected a positive number of texels", 2);
+  for (const auto& [flag, path] : {std::pair{"--csv", a.csv}, std::pair{"--json", a.json}}) {
+    s = check_output(flag, path);
+    if (!s.ok()) return fail(s.message(), 1);
+  }
+  for (const std::string& p : a.plugins) {
+    Status ls = PluginRegistry::global().load(p);
+    if (!ls.ok()) return fail(ls.message(), ls.exit_code());
+  }
+
+  std::vector<std::string> techniques = sweep::sweep_techniques();
+  if (!a.techniques.empty()) {
+    const std::vector<std::string> known = techniques;
+    techniques = split(a.techniques);
+    for (const std::string& t : techniques)
+      if (std::find(known.begin(), known.end(), t) == known.end()) {
+        std::string list;
+        for (const std::string& k : known) list += (list.empty() ? "" : ", ") + k;
+        return fail("--techniques: '" + t + "' is not a technique with a depth map (" + list + ")",
+                    2);
+      }
+  }
+  std::vector<sweep::Setting> settings;
+  for (const std::string& t : techniques) {
+    for (sweep::Setting& st : sweep::settings_for(*PluginRegistry::global().find(t), step_counts))
+      settings.push_back(std::move(st));
+  }
+  if (a.target_error > 0.0) return do_target(a, opt, settings);
+
+  std::vector<sweep::Field> fields;
+  Result<std::vector<sweep::Field>> builtins = sweep::builtin_fields();
+  if (!builtins.ok()) return fail(builtins.status().message(), 1);
+  for (const std::string& name : split(a.fields)) {
+    if (name == "none") continue;
+    auto it = std::find_if(builtins->begin(), builtins->end(),
+                           [&](const sweep::Field& f) { return f.name == name; });
+    if (it == builtins->end())
+      return fail("--fields: unknown built-in height field '" + name + "' (bricks, pattern, none)",
+                  2);
+    fields.push_back(*it);
+  }
+  for (const std::string& file : a.depth_files) {
+    Result<sweep::Field> f = sweep::field_from_file(file, a.depth_scale, a.height);
+    if (!f.ok()) return fail(f.status().message(), f.status().exit_code());
+    fields.push_back(std::move(f).value());
+  }
+  if (fields.empty()) return fail("no height field to sweep (--fields none and no --depth)", 2);
+
+  opt.keep_images = !a.report.empty();
+  Progress progress(!a.no_progress);
+  opt.progress = [&](int d, int t, const std::string& w) { progress(d, t, w); };
+  Result<sweep::SweepResult> r = sweep::run_sweep(fields, settings, opt);
+  progress.finish();
+  if (!r.ok()) return fail(r.status().message(), r.status().exit_code());
+
+  sweep::RunInfo info{command_line(), sweep::machine_description(), opt};
+  std::printf("%s\n%s, %dx%d, %d threads (0 = all), %d warm-up + %d timed frames per row\n",
+              info.machine.c_str(), r->cpu_device.c_str(), opt.width, opt.height, opt.threads,
+              opt.warmup, opt.repeats);
+  if (!r->gl_device.empty()) std::printf("gl: %s\n", r->gl_device.c_str());
+  std::printf("%s", sweep::format_table(r->rows).c_str());
+  for (const std::string& n : r->notes) std::printf("%s\n", n.c_str());
+  if (!a.csv.empty()) {
+    s = write_text_atomic(a.csv, sweep::to_csv(r->rows));
+    if (!s.ok()) return fail(s.message(), s.exit_code());
+  }
+  if (!a.json.empty()) {
+    s = write_text_atomic(a.json, sweep::to_json(*r, info));
+    if (!s.ok()) return fail(s.message(), s.exit_code());
+  }
+  if (!a.report.empty()) {
+    s = sweep::write_report(a.report, *r, info);
+    if (!s.ok()) return fail(s.message(), s.exit_code());
+    std::printf("report: %s/index.html\n", a.report.c_str());
+  }
+  return 0;
+}
+
+}  // namespace
 
 void register_bench(CLI::App& app, Action& action) {
-  auto* sub = app.add_subcommand("bench", "Accuracy/cost sweep of the relief techniques");
-  sub->callback([&action] { action = [] { return fail("bench: not built yet", 1); }; });
+  auto a = std::make_shared<BenchArgs>();
+  auto* sub = app.add_subcommand(
+      "bench",
+      "Accuracy/cost sweep: techniques x steps x view angles x height fields (docs/accuracy.md)");
+  a->sub = sub;
+  sub->add_option("--backend", a->backend, "cpu, gl or cpu,gl (gl: time of the GLSL twins)")
+      ->capture_default_str();
+  sub->add_option("--size", a->size, "Frame size WxH of each view")->capture_default_str();
+  sub->add_option("--threads", a->threads, "Worker threads, 0 = all cores")->capture_default_str();
+  sub->add_option("--angles", a->angles, "View angles, degrees from the normal (0..89.9)")
+      ->capture_default_str();
+  sub->add_option("--steps", a->steps, "Step counts of techniques with a `steps` parameter")
+      ->capture_default_str();
+  sub->add_option("--techniques", a->techniques,
+                  "Comma-separated techniques (default: all with a depth map)");
+  sub->add_option("--fields", a->fields, "Built-in height fields: bricks, pattern, none")
+      ->capture_default_str();
+  sub->add_option("--depth", a->depth_files, "Also sweep this depth image (repeatable)");
+  sub->add_option("--depth-scale", a->depth_scale, "Relief depth of --depth images, uv units")
+      ->capture_default_str();
+  sub->add_flag("--height", a->height, "--depth images are height maps (1 = top)");
+  sub->add_option("--warmup", a->warmup, "Untimed frames before timing each row")
+      ->capture_default_str();
+  sub->add_option("--repeats", a->repeats, "Timed frames per row (median, min, max)")
+      ->capture_default_str();
+  sub->add_flag("--quick", a->quick, "Small sweep: 128x128, angles 0,60,85, steps 8,32, 3 repeats");
+  sub->add_option("--csv", a->csv, "Write the rows as CSV (columns: docs/accuracy.md)");
+  sub->add_option("--json", a->json, "Write the rows, machine and command as JSON");
+  sub->add_option("--report", a->report, "Write DIR/index.html: Pareto plot, images, rows");
+  sub->add_option(
+      "--target-error", a->target_error,
+      "Pick per material of --scene the cheapest setting with p99 hit error under E texels");
+  sub->add_option("--scene", a->scene, "Scene for --target-error (built-in name or .gltf/.glb)");
+  sub->add_option("--camera", a->camera, "Camera of --scene (name or index)");
+  sub->add_option("--plugin", a->plugins,
+                  "Load an external plugin (.so); swept like the built-ins");
+  sub->add_flag("--no-progress", a->no_progress, "No progress bar on stderr");
+  sub->callback([&action, a] { action = [a] { return do_bench(*a); }; });
 }
 
 }  // namespace relief::cli

@@ -1,0 +1,381 @@
+// Running the sweep (sweep/sweep.h): renders each view with `exact` and with every setting, times
+// the main pass, counts the work per fragment and measures the hits against exact's.
+#include "sweep/sweep.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <memory>
+#include <mutex>
+#include <string>
+
+#include "gl/gl_backend.h"
+#include "plugins/registry.h"
+#include "render/compare.h"
+#include "render/render.h"
+#include "shaders_cpp/exact.h"
+
+namespace relief::sweep {
+namespace {
+
+// ---- per-fragment work: a counting wrapper around the plugin's packet shader ----
+// The counting pass shades every covered fragment alone (a one-quad packet whose coverage holds
+// only that lane, so the quad's derivatives are the same) and keeps its WorkCounters per pixel;
+// the real packet is shaded as well, so the frame itself is unchanged. One counting pass at a
+// time per process (the wrapper's target is a global), guarded by a mutex.
+struct PixelWork {
+  int width = 0;
+  std::vector<float> fetches, steps;
+};
+std::mutex g_counting_mutex;
+const PluginDescriptor* g_inner = nullptr;
+ShadeFn g_inner_fn = nullptr;
+PixelWork* g_sink = nullptr;
+
+void counting_shade(const ShadeContext& ctx, const FragmentPacket& in, FragmentOutput& out,
+                    WorkCounters& wc) {
+  g_inner_fn(ctx, in, out, wc);
+  for (int q = 0; q < in.num_quads; ++q)
+    for (int l = 0; l < kQuadLanes; ++l) {
+      if (!((in.coverage[q] >> l) & 1)) continue;
+      FragmentPacket one{};
+      one.num_quads = 1;
+      one.num_varyings = in.num_varyings;
+      one.front_facing = in.front_facing;
+      one.coverage[0] = static_cast<uint8_t>(1u << l);
+      for (int k = 0; k < kQuadLanes; ++k) {
+        const int src = q * kQuadLanes + k;
+        one.frag_x[k] = in.frag_x[src];
+        one.frag_y[k] = in.frag_y[src];
+        one.frag_z[k] = in.frag_z[src];
+        one.inv_w[k] = in.inv_w[src];
+        for (int v = 0; v < in.num_varyings; ++v) one.varyings[v][k] = in.varyings[v][src];
+      }
+      auto o = std::make_unique<FragmentOutput>();
+      WorkCounters w;
+      g_inner_fn(ctx, one, *o, w);
+      const int lane_index = q * kQuadLanes + l;
+      const size_t px = static_cast<size_t>(std::floor(in.frag_y[lane_index])) * g_sink->width +
+                        static_cast<size_t>(std::floor(in.frag_x[lane_index]));
+      g_sink->fetches[px] += static_cast<float>(w.texture_fetches);
+      g_sink->steps[px] += static_cast<float>(w.search_steps);
+    }
+}
+ShadeFn counting_select(EffectMask effects) {
+  g_inner_fn = g_inner->select(effects);
+  return &counting_shade;
+}
+
+double percentile99(std::vector<double> v) {
+  if (v.empty()) return 0.0;
+  std::sort(v.begin(), v.end());
+  const size_t rank = static_cast<size_t>(std::ceil(0.99 * static_cast<double>(v.size())));
+  return v[std::max<size_t>(rank, 1) - 1];
+}
+double mean(const std::vector<double>& v) {
+  double s = 0.0;
+  for (double x : v) s += x;
+  return v.empty() ? 0.0 : s / static_cast<double>(v.size());
+}
+double median(std::vector<double> v) {
+  if (v.empty()) return 0.0;
+  std::sort(v.begin(), v.end());
+  const size_t n = v.size();
+  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+float luminance(const glm::vec4& c) {
+  return 0.2126f * c.r + 0.7152f * c.g + 0.0722f * c.b;
+}
+
+const PassStats* main_pass(const RenderResult& r) {
+  for (const PassStats& p : r.passes)
+    if (p.kind == PassPlan::Kind::kMain) return &p;
+  return nullptr;
+}
+
+// Everything measured of one setting on one view.
+struct Measured {
+  Framebuffer on;            // self-shadow on, AOVs
+  std::vector<int> visible;  // per pixel: -1 not compared, 0 lit, 1 shadowed
+  PixelWork work;
+  std::vector<double> ns;  // per repeat
+  long fragments = 0;
+};
+
+class Runner {
+ public:
+  Runner(const Options& o) : opt_(o), cpu_(make_cpu_backend(o.threads)) {}
+
+  RenderOptions render_options(const Setting& s, bool aovs) const {
+    RenderOptions r;
+    r.width = opt_.width;
+    r.height = opt_.height;
+    r.threads = opt_.threads;
+    r.technique = s.technique;
+    r.params = s.params;
+    r.shadows = false;
+    r.self_shadow = true;
+    if (aovs) r.aovs = aov_bit(Aov::kHitUv) | aov_bit(Aov::kHitDepth);
+    return r;
+  }
+
+  Result<RenderResult> render(Backend& b, const Scene& scene, const RenderOptions& ro,
+                              const PluginDescriptor* wrap = nullptr) {
+    Result<Plan> plan = make_plan(scene, ro);
+    if (!plan.ok()) return plan.status();
+    if (!wrap) return b.render(scene, *plan, ro);
+    for (BoundMaterial& m : plan->materials) m.plugin = wrap;
+    return b.render(scene, *plan, ro);
+  }
+
+  Result<Measured> measure(const Scene& scene, const Setting& s) {
+    Measured m;
+    const RenderOptions ro = render_options(s, true);
+    for (int i = 0; i < opt_.warmup + opt_.repeats; ++i) {
+      Result<RenderResult> r = render(*cpu_, scene, ro);
+      if (!r.ok()) return r.status();
+      const PassStats* p = main_pass(*r);
+      if (!p || p->raster.work.fragments == 0)
+        return Status::error("no fragment covered (" + s.label + ")");
+      m.fragments = static_cast<long>(p->raster.work.fragments);
+      if (i >= opt_.warmup) m.ns.push_back(p->ms * 1e6 / static_cast<double>(m.fragments));
+      if (i + 1 == opt_.warmup + opt_.repeats) m.on = std::move(r->framebuffer);
+      cpu_device_ = r->device;
+    }
+    // self-shadow off, and no lights: the sun's share of each pixel and whether it is shadowed
+    Scene off = scene, dark = scene;
+    off.materials[0].self_shadow = false;
+    dark.lights.clear();
+    Result<RenderResult> r_off = render(*cpu_, off, render_options(s, false));
+    if (!r_off.ok()) return r_off.status();
+    Result<RenderResult> r_dark = render(*cpu_, dark, render_options(s, false));
+    if (!r_dark.ok()) return r_dark.status();
+    const size_t n = m.on.color.pixels.size();
+    m.visible.assign(n, -1);
+    for (size_t i = 0; i < n; ++i) {
+      if (!(m.on.depth.values[i] > 0.0f)) continue;
+      const float base = luminance(r_dark->framebuffer.color.pixels[i]);
+      const float sun = luminance(r_off->framebuffer.color.pixels[i]) - base;
+      if (!(sun >= 0.05f)) continue;
+      m.visible[i] = (luminance(m.on.color.pixels[i]) - base) / sun < 0.5f;
+    }
+    // the counting pass
+    const PluginDescriptor* plugin = PluginRegistry::global().find(s.technique);
+    if (!plugin) return Status::error("unknown technique '" + s.technique + "'");
+    PluginDescriptor wrapper = *plugin;
+    wrapper.select = &counting_select;
+    m.work.width = opt_.width;
+    m.work.fetches.assign(n, 0.0f);
+    m.work.steps.assign(n, 0.0f);
+    {
+      std::lock_guard<std::mutex> lock(g_counting_mutex);
+      g_inner = plugin;
+      g_sink = &m.work;
+      Result<RenderResult> r = render(*cpu_, scene, render_options(s, false), &wrapper);
+      g_sink = nullptr;
+      g_inner = nullptr;
+      if (!r.ok()) return r.status();
+    }
+    return m;
+  }
+
+  // GL timing of the setting: ns per fragment of the main pass, per repeat; empty with `note`
+  // set when it cannot run.
+  std::vector<double> gl_times(const Scene& scene, const Setting& s, long fragments,
+                               std::string& note) {
+    if (!gl_has_twin(s.technique)) {
+      note = "no GLSL twin of " + s.technique + " in gl/shaders";
+      return {};
+    }
+    if (!gl_) {
+      if (!gl_error_.empty()) {
+        note = gl_error_;
+        return {};
+      }
+      // llvmpipe's threads: as many as the CPU backend's unless the caller set them
+      if (opt_.threads > 0) setenv("LP_NUM_THREADS", std::to_string(opt_.threads).c_str(), 0);
+      Result<std::unique_ptr<Backend>> b = make_gl_backend(-1);
+      if (!b.ok()) {
+        gl_error_ = "no GL context: " + b.status().message();
+        note = gl_error_;
+        return {};
+      }
+      gl_ = std::move(b).value();
+    }
+    std::vector<double> ns;
+    const RenderOptions ro = render_options(s, false);
+    for (int i = 0; i < opt_.warmup + opt_.repeats; ++i) {
+      Result<RenderResult> r = render(*gl_, scene, ro);
+      if (!r.ok()) {
+        note = "gl: " + r.status().message();
+        return {};
+      }
+      gl_device_ = r->device;
+      const PassStats* p = main_pass(*r);
+      if (p && i >= opt_.warmup) ns.push_back(p->ms * 1e6 / static_cast<double>(fragments));
+    }
+    return ns;
+  }
+
+  const std::string& cpu_device() const { return cpu_device_; }
+  const std::string& gl_device() const { return gl_device_; }
+
+ private:
+  Options opt_;
+  std::unique_ptr<Backend> cpu_, gl_;
+  std::string gl_error_, cpu_device_, gl_device_;
+};
+
+// Accuracy of `m` against the reference `e` on the pixels both cover.
+void accuracy(const Measured& m, const Measured& e, const HeightField& hf, glm::dvec2 ds,
+              Row& row) {
+  const Framebuffer& a = m.on;
+  const Framebuffer& b = e.on;
+  const double w = hf.width(), h = hf.height();
+  std::vector<double> hit, depth;
+  long wrong = 0, compared = 0, disagree = 0;
+  for (size_t i = 0; i < a.color.pixels.size(); ++i) {
+    if (!(a.depth.values[i] > 0.0f) || !(b.depth.values[i] > 0.0f)) continue;
+    const float* pa = &a.aov[i * kAovTotalChannels];
+    const float* pb = &b.aov[i * kAovTotalChannels];
+    const double du = (static_cast<double>(pa[kAovOffset[0]]) - pb[kAovOffset[0]]) * w;
+    const double dv = (static_cast<double>(pa[kAovOffset[0] + 1]) - pb[kAovOffset[0] + 1]) * h;
+    hit.push_back(std::hypot(du, dv));
+    const double ta = pa[kAovOffset[1]], te = pb[kAovOffset[1]];
+    depth.push_back(std::fabs(ta - te));
+    // wrong layer: past exact's hit with air between them (sampled every 1/16 texel)
+    if (ta > te + 1e-4) {
+      const double texels = (ta - te) * std::hypot(ds.x * w, ds.y * h);
+      const int samples = static_cast<int>(std::clamp(std::ceil(texels * 16.0), 1.0, 1e5));
+      const double u0 = pb[kAovOffset[0]], v0 = pb[kAovOffset[0] + 1];
+      for (int k = 1; k <= samples; ++k) {
+        const double t = te + (ta - te) * k / (samples + 1.0);
+        if (hf.depth_at(u0 + (t - te) * ds.x, v0 + (t - te) * ds.y) - t > 1e-3) {
+          ++wrong;
+          break;
+        }
+      }
+    }
+    if (m.visible[i] >= 0 && e.visible[i] >= 0) {
+      ++compared;
+      disagree += m.visible[i] != e.visible[i];
+    }
+  }
+  row.hit_err_mean = mean(hit);
+  row.hit_err_p99 = percentile99(hit);
+  row.depth_err_mean = mean(depth);
+  row.depth_err_p99 = percentile99(depth);
+  row.wrong_layer_frac = hit.empty() ? 0.0 : static_cast<double>(wrong) / hit.size();
+  row.shadow_compared = compared;
+  row.shadow_disagree_frac = compared ? static_cast<double>(disagree) / compared : 0.0;
+  const ImageDiff d = compare_images(a.color, b.color);
+  row.rmse = d.rmse;
+  row.psnr_db = std::isfinite(d.psnr_db) ? std::min(d.psnr_db, kPsnrCap) : kPsnrCap;
+}
+
+void work_stats(const Measured& m, Row& row) {
+  std::vector<double> f, s;
+  for (size_t i = 0; i < m.on.depth.values.size(); ++i) {
+    if (!(m.on.depth.values[i] > 0.0f)) continue;
+    f.push_back(m.work.fetches[i]);
+    s.push_back(m.work.steps[i]);
+  }
+  row.fetches_mean = mean(f);
+  row.fetches_p99 = percentile99(f);
+  row.steps_mean = mean(s);
+  row.steps_p99 = percentile99(s);
+}
+
+void set_times(const std::vector<double>& ns, double& med, double& lo, double& hi) {
+  med = median(ns);
+  lo = ns.empty() ? 0.0 : *std::min_element(ns.begin(), ns.end());
+  hi = ns.empty() ? 0.0 : *std::max_element(ns.begin(), ns.end());
+}
+
+// Images are kept for the fewest-steps setting of each technique (the report's gallery).
+std::vector<bool> gallery(const std::vector<Setting>& settings) {
+  std::vector<bool> keep(settings.size(), false);
+  std::map<std::string, size_t> first;
+  for (size_t i = 0; i < settings.size(); ++i) {
+    auto it = first.find(settings[i].technique);
+    if (it == first.end() || settings[i].steps < settings[it->second].steps)
+      first[settings[i].technique] = i;
+  }
+  for (const auto& [t, i] : first) keep[i] = true;
+  return keep;
+}
+
+}  // namespace
+
+Result<SweepResult> run_sweep(const std::vector<Field>& fields,
+                              const std::vector<Setting>& settings, const Options& options) {
+  if (options.repeats < 1 || options.warmup < 0)
+    return Status::usage("--repeats: expected at least 1 (and --warmup at least 0)");
+  SweepResult out;
+  Runner runner(options);
+  const Setting exact_setting{"exact", {}, "exact", 0};
+  const std::vector<bool> keep = gallery(settings);
+  const int total = static_cast<int>(fields.size() * options.angles.size() * (settings.size() + 1));
+  int done = 0;
+  auto tick = [&](const std::string& what) {
+    ++done;
+    if (options.progress) options.progress(done, total, what);
+  };
+  for (const Field& field : fields) {
+    const HeightField hf = HeightField::from_texture(field.depth(), field.material.sampler);
+    for (double angle : options.angles) {
+      const Scene scene = view_scene(field, angle, options.width, options.height);
+      const glm::dvec2 ds = view_ray_step(field, angle);
+      const std::string view =
+          field.name + " @ " + std::to_string(static_cast<int>(angle)) + " deg";
+      Result<Measured> ref = runner.measure(scene, exact_setting);
+      if (!ref.ok()) return ref.status().with_context(view + ", exact");
+      tick(view + ": exact reference");
+      for (size_t si = 0; si < settings.size(); ++si) {
+        const Setting& s = settings[si];
+        // exact's own row reuses the reference (same renders)
+        Result<Measured> m =
+            s.technique == "exact" && s.params.empty() ? ref : runner.measure(scene, s);
+        if (!m.ok()) return m.status().with_context(view + ", " + s.label);
+        Row row;
+        row.field = field.name;
+        row.technique = s.technique;
+        row.setting = s.label;
+        row.steps = s.steps;
+        row.angle = angle;
+        row.fragments = m->fragments;
+        set_times(m->ns, row.ns_median, row.ns_min, row.ns_max);
+        work_stats(*m, row);
+        accuracy(*m, *ref, hf, ds, row);
+        if (options.gl) {
+          const std::vector<double> g = runner.gl_times(scene, s, m->fragments, row.gl_note);
+          if (!g.empty()) {
+            set_times(g, row.gl_ns_median, row.gl_ns_min, row.gl_ns_max);
+            row.cpu_gl_ratio = row.gl_ns_median > 0 ? row.ns_median / row.gl_ns_median : -1.0;
+          }
+        }
+        if (options.keep_images && keep[si]) {
+          RowImages im;
+          im.row = out.rows.size();
+          im.color = m->on.color;
+          im.heat = diff_heatmap(m->on.color, ref->on.color);
+          out.images.push_back(std::move(im));
+        }
+        out.rows.push_back(std::move(row));
+        tick(view + ": " + s.label);
+      }
+    }
+  }
+  out.cpu_device = runner.cpu_device();
+  out.gl_device = runner.gl_device();
+  if (options.gl) {
+    std::map<std::string, std::string> skipped;
+    for (const Row& r : out.rows)
+      if (!r.gl_note.empty()) skipped[r.technique] = r.gl_note;
+    for (const auto& [t, why] : skipped) out.notes.push_back("gl skipped " + t + ": " + why);
+  }
+  return out;
+}
+
+}  // namespace relief::sweep
