@@ -23,6 +23,7 @@
 #include "scene/builtin.h"
 #include "shaders_cpp/exact.h"
 #include "shaders_cpp/miss_analysis.h"
+#include "sweep/sweep.h"
 
 namespace relief {
 namespace {
@@ -58,14 +59,7 @@ std::optional<Framebuffer> render(const Scene& scene, const std::string& techniq
 }
 
 // The registered techniques that search a depth map (a required `depth` texture slot).
-std::vector<std::string> relief_techniques() {
-  std::vector<std::string> names;
-  for (const PluginDescriptor* p : PluginRegistry::global().all())
-    for (int s = 0; s < p->num_textures; ++s)
-      if (std::strcmp(p->textures[s].name, "depth") == 0 && p->textures[s].required)
-        names.push_back(p->name);
-  return names;
-}
+std::vector<std::string> relief_techniques() { return sweep::sweep_techniques(); }
 
 const Texture& depth_texture(const Scene& s) {
   return *s.materials[0].textures.at("depth");
