@@ -76,18 +76,30 @@ inline V4<F> bilinear8(const Texture& t, const SamplerState& s, V2<F> uv, int_t<
   const I x0 = wrap_lanes(ix, w, s.wrap_u, pow2), x1 = wrap_lanes(ix + I(1), w, s.wrap_u, pow2);
   const I y0 = wrap_lanes(iy, h, s.wrap_v, pow2), y1 = wrap_lanes(iy + I(1), h, s.wrap_v, pow2);
   const I r0 = y0 * w, r1 = y1 * w;
+  const I i00 = r0 + x0, i10 = r0 + x1, i01 = r1 + x0, i11 = r1 + x1;
   I t00, t10, t01, t11;
-  for (int k = 0; k < lane_width<F>; ++k) {
-    const uint8_t* d = t.level(lane(lvl, k)).data.data();
-    auto load = [&](int32_t texel) {
-      uint32_t v = 0;
-      std::memcpy(&v, d + size_t(texel) * kChannels, kChannels);
-      return static_cast<int32_t>(v);
-    };
-    set_lane(t00, k, load(lane(r0, k) + lane(x0, k)));
-    set_lane(t10, k, load(lane(r0, k) + lane(x1, k)));
-    set_lane(t01, k, load(lane(r1, k) + lane(x0, k)));
-    set_lane(t11, k, load(lane(r1, k) + lane(x1, k)));
+  auto load = [](const uint8_t* d, int32_t texel) {
+    uint32_t v = 0;
+    std::memcpy(&v, d + size_t(texel) * kChannels, kChannels);
+    return static_cast<int32_t>(v);
+  };
+  const int lvl0 = lane(lvl, 0);
+  if (all(lvl == I(lvl0))) {  // the usual case: one level for the packet (LOD is per quad)
+    const uint8_t* d = t.level(lvl0).data.data();
+    for (int k = 0; k < lane_width<F>; ++k) {
+      set_lane(t00, k, load(d, lane(i00, k)));
+      set_lane(t10, k, load(d, lane(i10, k)));
+      set_lane(t01, k, load(d, lane(i01, k)));
+      set_lane(t11, k, load(d, lane(i11, k)));
+    }
+  } else {
+    for (int k = 0; k < lane_width<F>; ++k) {
+      const uint8_t* d = t.level(lane(lvl, k)).data.data();
+      set_lane(t00, k, load(d, lane(i00, k)));
+      set_lane(t10, k, load(d, lane(i10, k)));
+      set_lane(t01, k, load(d, lane(i01, k)));
+      set_lane(t11, k, load(d, lane(i11, k)));
+    }
   }
   const bool srgb = t.color_space() == ColorSpace::kSRGB;
   const float* lut = srgb ? srgb8_table() : unorm8_table();
