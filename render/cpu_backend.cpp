@@ -150,12 +150,7 @@ class CpuBackend final : public Backend {
                                  const std::vector<const void*>& state_of, RenderResult& result) {
     const auto t0 = Clock::now();
     const ShadowPassSetup& s = pass.shadow;
-    PassStats stats;
-    stats.name = pass.name;
-    stats.kind = PassPlan::Kind::kShadow;
-    stats.light = pass.light;
-    stats.faces = s.faces;
-    stats.resolution = s.size;
+    PassStats stats = shadow_pass_stats(pass);
     std::vector<Plane> faces;
     std::vector<DrawBinding> bindings(plan.materials.size());
     for (int f = 0; f < s.faces; ++f) {

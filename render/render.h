@@ -97,6 +97,17 @@ struct PassStats {
   int resolution = 0;  // shadow passes: texels per side
 };
 
+// A shadow pass's stats before it runs: its name, kind, light, faces and resolution (both backends).
+inline PassStats shadow_pass_stats(const PassPlan& pass) {
+  PassStats stats;
+  stats.name = pass.name;
+  stats.kind = PassPlan::Kind::kShadow;
+  stats.light = pass.light;
+  stats.faces = pass.shadow.faces;
+  stats.resolution = pass.shadow.size;
+  return stats;
+}
+
 struct RenderResult {
   Framebuffer framebuffer;
   std::vector<PassStats> passes;
