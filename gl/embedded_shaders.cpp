@@ -37,7 +37,11 @@
   X(steep_parallax_frag, "steep_parallax.frag") \
   X(pom_frag, "pom.frag")                       \
   X(relief_frag, "relief.frag")                 \
-  X(exact_frag, "exact.frag")
+  X(exact_frag, "exact.frag")                   \
+  X(cone_glsl, "cone.glsl")                     \
+  X(cone_frag, "cone.frag")                     \
+  X(cone_quad_frag, "cone_quad.frag")           \
+  X(relaxed_cone_frag, "relaxed_cone.frag")
 
 RELIEF_SHADER_LIST(RELIEF_EMBED)
 

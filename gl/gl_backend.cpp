@@ -5,6 +5,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <functional>
 #include <map>
 #include <string>
 #include <tuple>
@@ -15,6 +16,7 @@
 #include "gl/context.h"
 #include "gl/height_field.h"
 #include "gl/shader.h"
+#include "render/derived_maps.h"
 
 #ifndef GL_TEXTURE_MAX_ANISOTROPY
 #define GL_TEXTURE_MAX_ANISOTROPY 0x84FE
@@ -108,6 +110,7 @@ struct Locations {
     GLint type = -1, position = -1, direction = -1, color = -1, range = -1, inner = -1, outer = -1;
   } lights[kMaxLights];
   GLint params = -1, base_color = -1, specular = -1, shininess = -1, has_texture = -1;
+  GLint texture_sampler = -1;  // cone.glsl: (filter, wrap_u, wrap_v) per slot, for texelFetch
 };
 
 Locations find_locations(GLuint p) {
@@ -133,6 +136,7 @@ Locations find_locations(GLuint p) {
   l.specular = loc("material.specular");
   l.shininess = loc("material.shininess");
   l.has_texture = loc("has_texture[0]");
+  l.texture_sampler = loc("texture_sampler[0]");
   return l;
 }
 
@@ -148,6 +152,11 @@ struct Program {
   Locations loc;
   bool height_field = false;  // reads HeightFieldBuffer (the exact twin)
 };
+
+// How a texture is uploaded: as stored, or as 32-bit float of the values the CPU's sampler
+// decodes (Texture::fetch_r into R32F: depth maps and one-channel cone maps; Texture::fetch into
+// RGBA32F: quad cone maps), so that a twin reads exactly the CPU's values.
+enum class Upload { kNative, kR32F, kRGBA32F };
 
 struct CachedTexture {
   TexturePtr owner;  // keeps the address from being reused while cached
@@ -178,6 +187,71 @@ int slot_named(const PluginDescriptor& p, const char* name) {
   return -1;
 }
 
+// Depth maps and cone maps (the slots the searches read) go up as 32-bit float of the CPU's
+// decoded values; everything else as stored.
+Upload upload_for(const PluginDescriptor& p, int slot, const Texture& t) {
+  if (slot >= p.num_textures) return Upload::kNative;
+  const std::string name = p.textures[slot].name;
+  if (name == "depth") return Upload::kR32F;
+  if (is_derived_slot(name))
+    return format_channels(t.format()) == 1 ? Upload::kR32F : Upload::kRGBA32F;
+  return Upload::kNative;
+}
+
+// A draw range in the uploaded vertex and index buffers.
+struct DrawRange {
+  int material;
+  GLsizei count;
+  size_t index_offset;
+  GLint base_vertex;
+};
+
+// The texture and sampler objects per material and slot, and the exact twin's max-mip buffer.
+struct DrawTextures {
+  std::vector<std::array<GLuint, kMaxTextureSlots>> tex, samplers;
+  std::vector<GLuint> fields;
+};
+
+// What a pass has bound: the material whose uniforms each program holds, and whether its frame
+// uniforms are the pass's.
+struct BindCache {
+  std::map<GLuint, int> material_of;
+};
+
+// Storage-block binding of gl/shaders/shadow_map.glsl and the first texture unit of its maps.
+constexpr GLuint kShadowViewsBinding = 2;
+constexpr GLuint kShadowUnit = 8;
+// shadow_map.glsl: floats per light (16 header + 6 view + 6 projection matrices).
+constexpr int kShadowViewHeader = 16;
+constexpr int kShadowViewFloats = kShadowViewHeader + 2 * kMaxShadowFaces * 16;
+
+// One light's ShadowMapView as shadow_map.glsl reads it (make_shadow_view's fields).
+void pack_shadow_view(const ShadowPassSetup& s, const ShadowSettings& settings, float* out) {
+  const float header[kShadowViewHeader] = {static_cast<float>(s.size),
+                                           static_cast<float>(s.faces),
+                                           s.orthographic ? 1.0f : 0.0f,
+                                           s.position.x,
+                                           s.position.y,
+                                           s.position.z,
+                                           s.znear,
+                                           s.zfar,
+                                           s.texel,
+                                           settings.depth_bias,
+                                           settings.slope_bias,
+                                           static_cast<float>(settings.pcf_radius),
+                                           0.0f,
+                                           0.0f,
+                                           0.0f,
+                                           0.0f};
+  std::copy(header, header + kShadowViewHeader, out);
+  for (int f = 0; f < kMaxShadowFaces; ++f) {
+    const glm::mat4 v = f < s.faces ? s.view[f] : glm::mat4(1.0f);
+    const glm::mat4 p = f < s.faces ? s.proj[f] : glm::mat4(1.0f);
+    std::copy(&v[0][0], &v[0][0] + 16, out + kShadowViewHeader + f * 16);
+    std::copy(&p[0][0], &p[0][0] + 16, out + kShadowViewHeader + (kMaxShadowFaces + f) * 16);
+  }
+}
+
 class GlBackend final : public Backend {
  public:
   explicit GlBackend(std::unique_ptr<gl::Context> ctx) : ctx_(std::move(ctx)) {}
@@ -187,10 +261,28 @@ class GlBackend final : public Backend {
                               const RenderOptions& options) override;
 
  private:
-  Result<const Program*> program_for(const BoundMaterial& m, bool aovs, bool count,
+  // The program of a plugin's twin ("depth_only" for casters without a shadow-pass variant).
+  Result<const Program*> program_for(const std::string& plugin, EffectMask effects,
+                                     DepthOutput depth_output, bool aovs, bool count,
                                      double* compile_ms);
+  // Renders the faces of one shadow pass into the layers of its depth texture.
+  Status shadow_pass(const Scene& scene, const Plan& plan, const PassPlan& pass,
+                     const std::vector<const Program*>& programs, const DrawTextures& textures,
+                     const std::vector<const Program*>& fresh, bool count, RenderResult& result);
+  // Uploads the draws `keep` accepts (plus one degenerate warm-up triangle at the end).
+  std::vector<DrawRange> upload_draws(const std::vector<PreparedDraw>& prepared,
+                                      const std::vector<const Program*>& programs,
+                                      size_t* warmup_offset);
+  // Sets a program's frame and material uniforms, textures and state for material mi.
+  void bind_material(const Program& p, int mi, const Plan& plan, const FrameUniforms& frame,
+                     const DrawTextures& textures, BindCache& cache);
+  // Zeroes the work counters and binds them (count) before a pass; sums them into `work` after.
+  void reset_counters();
+  Status read_counters(WorkCounters& work);
+  // Ends a pass timed from t_pass with the TIME_ELAPSED query begun for it.
+  void end_pass(PassStats& stats, Clock::time_point t_pass);
   Result<GLuint> height_field_for(const BoundMaterial& m, std::vector<GLuint>& transient_buffers);
-  GLuint texture_for(const Texture* t, const BoundMaterial& m, bool as_r32f,
+  GLuint texture_for(const Texture* t, const BoundMaterial& m, Upload upload,
                      std::vector<GLuint>& transient);
   GLuint sampler_for(const SamplerState& s);
   Status ensure_target(int w, int h, bool aovs);
@@ -198,7 +290,7 @@ class GlBackend final : public Backend {
 
   std::unique_ptr<gl::Context> ctx_;
   std::map<std::string, Program> programs_;
-  std::map<std::pair<const Texture*, bool>, CachedTexture> textures_;  // (texture, as R32F)
+  std::map<std::pair<const Texture*, Upload>, CachedTexture> textures_;
   std::map<HeightFieldKey, CachedTexture> height_fields_;
   GLuint empty_field_ = 0;  // a HeightFieldBuffer with no levels (no depth texture)
   GLuint counters_ = 0;
@@ -207,6 +299,14 @@ class GlBackend final : public Backend {
   int fb_w_ = 0, fb_h_ = 0;
   bool fb_aovs_ = false;
   GLuint vao_ = 0, vbo_clip_ = 0, vbo_vary_ = 0, ebo_ = 0, query_ = 0;
+  // Shadow maps: one 32-bit float depth array texture (a layer per face) per light, kept while
+  // its size holds; the depth-only FBO they are drawn through; the receivers' view data.
+  struct ShadowTexture {
+    GLuint id = 0;
+    int size = 0, faces = 0;
+  };
+  std::map<int, ShadowTexture> shadow_textures_;
+  GLuint shadow_fbo_ = 0, shadow_views_ = 0;
 };
 
 GlBackend::~GlBackend() {
@@ -222,14 +322,16 @@ GlBackend::~GlBackend() {
   GLuint bufs[] = {vbo_clip_, vbo_vary_, ebo_};
   glDeleteBuffers(3, bufs);
   if (query_) glDeleteQueries(1, &query_);
+  for (auto& [k, t] : shadow_textures_) glDeleteTextures(1, &t.id);
+  if (shadow_fbo_) glDeleteFramebuffers(1, &shadow_fbo_);
+  if (shadow_views_) glDeleteBuffers(1, &shadow_views_);
 }
 
-Result<const Program*> GlBackend::program_for(const BoundMaterial& m, bool aovs, bool count,
+Result<const Program*> GlBackend::program_for(const std::string& plugin, EffectMask effects,
+                                              DepthOutput depth_output, bool aovs, bool count,
                                               double* compile_ms) {
-  const std::string plugin = m.plugin->name;
-  const DepthOutput depth_output = m.plugin->depth_output(m.effects);
   const bool writes_depth = depth_output != DepthOutput::kNone;
-  const std::string key = plugin + "/" + std::to_string(m.effects) + "/" +
+  const std::string key = plugin + "/" + std::to_string(effects) + "/" +
                           std::to_string(int(depth_output)) + (aovs ? "a" : "") +
                           (count ? "c" : "");
   if (auto it = programs_.find(key); it != programs_.end()) return &it->second;
@@ -239,11 +341,11 @@ Result<const Program*> GlBackend::program_for(const BoundMaterial& m, bool aovs,
                          ")");
   auto flag = [&](const char* name, bool on) { return std::string(name) + (on ? " 1" : " 0"); };
   const std::vector<std::string> defines = {
-      flag("EFFECT_SELF_SHADOW", m.effects & kEffectSelfShadow),
-      flag("EFFECT_DEPTH_WRITE", m.effects & kEffectDepthWrite),
-      flag("EFFECT_SILHOUETTE", m.effects & kEffectSilhouette),
-      flag("EFFECT_SHADOW_PASS", m.effects & kEffectShadowPass),
-      flag("EFFECT_RECEIVE_SHADOW", m.effects & kEffectReceiveShadow),
+      flag("EFFECT_SELF_SHADOW", effects & kEffectSelfShadow),
+      flag("EFFECT_DEPTH_WRITE", effects & kEffectDepthWrite),
+      flag("EFFECT_SILHOUETTE", effects & kEffectSilhouette),
+      flag("EFFECT_SHADOW_PASS", effects & kEffectShadowPass),
+      flag("EFFECT_RECEIVE_SHADOW", effects & kEffectReceiveShadow),
       flag("RELIEF_WRITES_DEPTH", writes_depth),
       flag("RELIEF_AOVS", aovs),
       flag("RELIEF_DEPTH_FARTHER", depth_output == DepthOutput::kFarther),
@@ -314,12 +416,13 @@ TexturePtr owner_of(const BoundMaterial& m, const Texture* t) {
   return nullptr;
 }
 
-GLuint GlBackend::texture_for(const Texture* t, const BoundMaterial& m, bool as_r32f,
+GLuint GlBackend::texture_for(const Texture* t, const BoundMaterial& m, Upload upload,
                               std::vector<GLuint>& transient) {
-  const std::pair<const Texture*, bool> key{t, as_r32f};
+  const std::pair<const Texture*, Upload> key{t, upload};
   if (auto it = textures_.find(key); it != textures_.end()) return it->second.id;
-  const FormatGl f =
-      as_r32f ? FormatGl{GL_R32F, GL_RED, GL_FLOAT} : format_gl(t->format(), t->color_space());
+  const FormatGl f = upload == Upload::kR32F      ? FormatGl{GL_R32F, GL_RED, GL_FLOAT}
+                     : upload == Upload::kRGBA32F ? FormatGl{GL_RGBA32F, GL_RGBA, GL_FLOAT}
+                                                  : format_gl(t->format(), t->color_space());
   GLuint id = 0;
   glCreateTextures(GL_TEXTURE_2D, 1, &id);
   glTextureStorage2D(id, t->levels(), f.internal, t->width(0), t->height(0));
@@ -330,12 +433,21 @@ GLuint GlBackend::texture_for(const Texture* t, const BoundMaterial& m, bool as_
   for (int l = 0; l < t->levels(); ++l) {
     const MipLevel& lv = t->level(l);
     const void* texels = lv.data.data();
-    if (as_r32f) {
+    if (upload == Upload::kR32F) {
       // the values the CPU's sample_r_lod decodes, texel for texel
       r.resize(static_cast<size_t>(lv.width) * lv.height);
       for (int y = 0; y < lv.height; ++y)
         for (int x = 0; x < lv.width; ++x)
           r[static_cast<size_t>(y) * lv.width + x] = t->fetch_r(l, x, y);
+      texels = r.data();
+    } else if (upload == Upload::kRGBA32F) {
+      // the values the CPU's sample_lod decodes, all four channels
+      r.resize(static_cast<size_t>(lv.width) * lv.height * 4);
+      for (int y = 0; y < lv.height; ++y)
+        for (int x = 0; x < lv.width; ++x) {
+          const glm::vec4 v = t->fetch(l, x, y);
+          for (int c = 0; c < 4; ++c) r[(static_cast<size_t>(y) * lv.width + x) * 4 + c] = v[c];
+        }
       texels = r.data();
     }
     glTextureSubImage2D(id, l, 0, 0, lv.width, lv.height, f.format, f.type, texels);
@@ -461,6 +573,214 @@ void set_material_uniforms(GLuint p, const Locations& l, const MaterialUniforms&
   GLint has[kMaxTextureSlots];
   for (int i = 0; i < kMaxTextureSlots; ++i) has[i] = m.textures[i] != nullptr ? 1 : 0;
   glProgramUniform1iv(p, l.has_texture, kMaxTextureSlots, has);
+  GLint samplers[kMaxTextureSlots * 3];
+  for (int i = 0; i < kMaxTextureSlots; ++i) {
+    samplers[3 * i] = static_cast<GLint>(m.samplers[i].filter);
+    samplers[3 * i + 1] = static_cast<GLint>(m.samplers[i].wrap_u);
+    samplers[3 * i + 2] = static_cast<GLint>(m.samplers[i].wrap_v);
+  }
+  if (l.texture_sampler >= 0) glProgramUniform3iv(p, l.texture_sampler, kMaxTextureSlots, samplers);
+}
+
+std::vector<DrawRange> GlBackend::upload_draws(const std::vector<PreparedDraw>& prepared,
+                                               const std::vector<const Program*>& programs,
+                                               size_t* warmup_offset) {
+  std::vector<DrawRange> ranges;
+  size_t nv = 0, ni = 0;
+  for (const PreparedDraw& d : prepared) {
+    nv += d.clip.size();
+    ni += d.indices ? d.indices->size() : 0;
+  }
+  std::vector<glm::vec4> clip;
+  std::vector<float> vary;
+  std::vector<uint32_t> idx;
+  clip.reserve(nv);
+  vary.reserve(nv * varying::kCount);
+  idx.reserve(ni + 3);
+  for (const PreparedDraw& d : prepared) {
+    if (!d.indices || d.indices->empty() || !programs[d.material]) continue;
+    ranges.push_back({d.material, static_cast<GLsizei>(d.indices->size()), idx.size(),
+                      static_cast<GLint>(clip.size())});
+    clip.insert(clip.end(), d.clip.begin(), d.clip.end());
+    vary.insert(vary.end(), d.varyings.begin(), d.varyings.end());
+    idx.insert(idx.end(), d.indices->begin(), d.indices->end());
+  }
+  *warmup_offset = idx.size();  // one degenerate triangle (see render)
+  idx.insert(idx.end(), {0u, 0u, 0u});
+  if (clip.empty()) clip.emplace_back(0.0f);  // the warm-up triangle reads vertex 0
+  vary.resize(std::max(vary.size(), static_cast<size_t>(varying::kCount)));
+  glNamedBufferData(vbo_clip_, static_cast<GLsizeiptr>(clip.size() * sizeof(glm::vec4)),
+                    clip.data(), GL_STREAM_DRAW);
+  glNamedBufferData(vbo_vary_, static_cast<GLsizeiptr>(vary.size() * sizeof(float)), vary.data(),
+                    GL_STREAM_DRAW);
+  glNamedBufferData(ebo_, static_cast<GLsizeiptr>(idx.size() * sizeof(uint32_t)), idx.data(),
+                    GL_STREAM_DRAW);
+  return ranges;
+}
+
+void GlBackend::bind_material(const Program& p, int mi, const Plan& plan,
+                              const FrameUniforms& frame, const DrawTextures& textures,
+                              BindCache& cache) {
+  const BoundMaterial& m = plan.materials[mi];
+  glUseProgram(p.id);
+  auto [it, first_use] = cache.material_of.emplace(p.id, -1);
+  if (first_use) {
+    set_frame_uniforms(p.id, p.loc, frame);
+    glProgramUniform2f(p.id, glGetUniformLocation(p.id, "viewport_size"),
+                       static_cast<float>(frame.width), static_cast<float>(frame.height));
+  }
+  if (it->second != mi) {
+    set_material_uniforms(p.id, p.loc, m.uniforms);
+    it->second = mi;
+  }
+  for (int s = 0; s < kMaxTextureSlots; ++s) {
+    glBindTextureUnit(s, textures.tex[mi][s]);
+    glBindSampler(s, textures.samplers[mi][s]);
+  }
+  if (p.height_field)
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kHeightFieldBinding, textures.fields[mi]);
+  if (m.double_sided)
+    glDisable(GL_CULL_FACE);
+  else
+    glEnable(GL_CULL_FACE);
+}
+
+void GlBackend::reset_counters() {
+  const uint32_t zero = 0;
+  glClearNamedBufferData(counters_, GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kCountersBinding, counters_);
+}
+
+Status GlBackend::read_counters(WorkCounters& work) {
+  // The slots of common.glsl's WorkCountersBuffer, summed into the CPU's WorkCounters.
+  std::vector<uint32_t> c(kCounterSlots * kCounterCount);
+  glGetNamedBufferSubData(counters_, 0, static_cast<GLsizeiptr>(c.size() * sizeof(uint32_t)),
+                          c.data());
+  uint64_t sum[kCounterCount] = {};
+  for (int slot = 0; slot < kCounterSlots; ++slot)
+    for (int k = 0; k < kCounterCount; ++k) sum[k] += c[slot * kCounterCount + k];
+  work.fragments = sum[0];
+  work.texture_fetches = sum[1];
+  work.search_steps = sum[2];
+  work.shadow_steps = sum[3];
+  work.discarded = sum[4];
+  return gl_check("work counters");
+}
+
+void GlBackend::end_pass(PassStats& stats, Clock::time_point t_pass) {
+  glEndQuery(GL_TIME_ELAPSED);
+  glFinish();
+  stats.ms = ms_since(t_pass);
+  GLuint64 ns = 0;
+  glGetQueryObjectui64v(query_, GL_QUERY_RESULT, &ns);
+  // A pass cannot take longer on the device than between its begin and glFinish; llvmpipe returns
+  // such values (threads that rasterised no bin report no start time), so they are dropped.
+  const double gpu_ms = static_cast<double>(ns) * 1e-6;
+  stats.gpu_ms = gpu_ms > 0.0 && gpu_ms <= stats.ms * 1.05 + 0.05 ? gpu_ms : -1.0;
+}
+
+// Draws a degenerate triangle with each program built in this frame, in the pass's state: drivers
+// may finish compiling at the first draw (llvmpipe JITs its fragment code there).
+void warm_up(const std::vector<const Program*>& fresh, const std::vector<const Program*>& programs,
+             size_t warmup_offset, const std::function<void(const Program&, int)>& bind,
+             double* compile_ms) {
+  const auto t = Clock::now();
+  bool drew = false;
+  for (size_t mi = 0; mi < programs.size(); ++mi) {
+    if (!programs[mi] || std::find(fresh.begin(), fresh.end(), programs[mi]) == fresh.end())
+      continue;
+    bind(*programs[mi], static_cast<int>(mi));
+    glDrawElementsBaseVertex(
+        GL_TRIANGLES, 3, GL_UNSIGNED_INT,
+        reinterpret_cast<const void*>(static_cast<uintptr_t>(warmup_offset * sizeof(uint32_t))), 0);
+    drew = true;
+  }
+  if (!drew) return;
+  glFinish();
+  *compile_ms += ms_since(t);
+}
+
+void draw_ranges(const std::vector<DrawRange>& ranges, const std::function<void(int)>& bind) {
+  for (const DrawRange& r : ranges) {
+    bind(r.material);
+    glDrawElementsBaseVertex(
+        GL_TRIANGLES, r.count, GL_UNSIGNED_INT,
+        reinterpret_cast<const void*>(static_cast<uintptr_t>(r.index_offset * sizeof(uint32_t))),
+        r.base_vertex);
+  }
+}
+
+Status GlBackend::shadow_pass(const Scene& scene, const Plan& plan, const PassPlan& pass,
+                              const std::vector<const Program*>& programs,
+                              const DrawTextures& textures,
+                              const std::vector<const Program*>& fresh, bool count,
+                              RenderResult& result) {
+  const ShadowPassSetup& s = pass.shadow;
+  PassStats stats = shadow_pass_stats(pass);
+  ShadowTexture& t = shadow_textures_[pass.light];
+  if (t.id == 0 || t.size != s.size || t.faces != s.faces) {
+    if (t.id) glDeleteTextures(1, &t.id);
+    glCreateTextures(GL_TEXTURE_2D_ARRAY, 1, &t.id);
+    glTextureStorage3D(t.id, 1, GL_DEPTH_COMPONENT32F, s.size, s.size, s.faces);
+    glTextureParameteri(t.id, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+    glTextureParameteri(t.id, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+    glTextureParameteri(t.id, GL_TEXTURE_COMPARE_MODE, GL_NONE);
+    t.size = s.size;
+    t.faces = s.faces;
+  }
+  if (!shadow_fbo_) glCreateFramebuffers(1, &shadow_fbo_);
+  glNamedFramebufferDrawBuffer(shadow_fbo_, GL_NONE);
+  glNamedFramebufferReadBuffer(shadow_fbo_, GL_NONE);
+  // The casters only (CPU: pass.instances with shadow_caster materials).
+  std::vector<const Program*> casters(plan.materials.size(), nullptr);
+  std::vector<bool> drawn(scene.instances.size(), false);
+  for (int i : pass.instances) drawn[i] = true;
+  double pass_ms = 0.0, gpu_ms = 0.0;
+  bool gpu_valid = true;
+  for (int f = 0; f < s.faces; ++f) {
+    const FrameUniforms frame = shadow_face_frame(s, f);
+    std::vector<PreparedDraw> prepared = prepare_draws(scene, frame.view_proj);
+    prepared.erase(std::remove_if(prepared.begin(), prepared.end(),
+                                  [&](const PreparedDraw& d) {
+                                    return !drawn[d.instance] ||
+                                           !plan.materials[d.material].shadow_caster;
+                                  }),
+                   prepared.end());
+    size_t warmup_offset = 0;
+    const std::vector<DrawRange> ranges = upload_draws(prepared, programs, &warmup_offset);
+    glNamedFramebufferTextureLayer(shadow_fbo_, GL_DEPTH_ATTACHMENT, t.id, 0, f);
+    const GLenum status = glCheckNamedFramebufferStatus(shadow_fbo_, GL_DRAW_FRAMEBUFFER);
+    if (status != GL_FRAMEBUFFER_COMPLETE)
+      return Status::error("gl: shadow framebuffer incomplete (" + pass.name + ")");
+    glBindFramebuffer(GL_FRAMEBUFFER, shadow_fbo_);
+    glViewport(0, 0, s.size, s.size);
+    BindCache cache;
+    auto bind = [&](const Program& p, int mi) {
+      bind_material(p, mi, plan, frame, textures, cache);
+    };
+    if (f == 0) warm_up(fresh, programs, warmup_offset, bind, &result.compile_ms);
+    if (count) reset_counters();
+    const auto t_pass = Clock::now();
+    glBeginQuery(GL_TIME_ELAPSED, query_);
+    const float depth_clear = 0.0f;
+    glClearNamedFramebufferfv(shadow_fbo_, GL_DEPTH, 0, &depth_clear);
+    draw_ranges(ranges, [&](int mi) { bind(*programs[mi], mi); });
+    PassStats face;
+    end_pass(face, t_pass);
+    pass_ms += face.ms;
+    gpu_valid = gpu_valid && face.gpu_ms >= 0.0;
+    gpu_ms += face.gpu_ms;
+    if (count) {
+      WorkCounters work;
+      RELIEF_RETURN_IF_ERROR(read_counters(work));
+      stats.raster.work += work;
+    }
+    RELIEF_RETURN_IF_ERROR(gl_check("shadow pass"));
+  }
+  stats.ms = pass_ms;
+  stats.gpu_ms = gpu_valid ? gpu_ms : -1.0;
+  result.passes.push_back(stats);
+  return {};
 }
 
 Result<RenderResult> GlBackend::render(const Scene& scene, const Plan& plan,
@@ -469,35 +789,53 @@ Result<RenderResult> GlBackend::render(const Scene& scene, const Plan& plan,
   RELIEF_RETURN_IF_ERROR(ctx_->make_current());
   while (glGetError() != GL_NO_ERROR) {
   }
-  for (const PassPlan& pass : plan.passes)
-    if (pass.kind == PassPlan::Kind::kShadow)
-      return Status::error("gl: shadow pass \"" + pass.name +
-                           "\": shadow maps are not implemented in the GL backend yet (render "
-                           "with --no-shadows, or --backend cpu)");
   RenderResult result;
   result.device = ctx_->info().renderer;
   const bool aovs = opt.aovs != 0;
+  const bool count = opt.count_work;
   const int w = opt.width, h = opt.height;
 
   // Drop cached textures and max-mips nobody else holds any more.
   drop_unowned(textures_, glDeleteTextures);
   drop_unowned(height_fields_, glDeleteBuffers);
 
-  // Programs: the first frame of a variant pays for compiling it.
-  std::vector<const Program*> programs(plan.materials.size(), nullptr);
-  std::vector<int> fresh;  // materials whose program was built in this frame
+  // Programs: the main pass's variant of every drawn material and, when there are shadow passes,
+  // the casters' shadow-pass variant (or depth only). The first frame of a variant compiles it.
+  const size_t nm = plan.materials.size();
+  std::vector<const Program*> programs(nm, nullptr), shadow_programs(nm, nullptr);
+  std::vector<const Program*> fresh;  // built in this frame
+  auto get = [&](const std::string& plugin, EffectMask effects, DepthOutput depth, bool with_aovs,
+                 const Program** out) -> Status {
+    const size_t before = programs_.size();
+    Result<const Program*> p =
+        program_for(plugin, effects, depth, with_aovs, count, &result.compile_ms);
+    if (!p.ok()) return p.status();
+    *out = *p;
+    if (programs_.size() != before) fresh.push_back(*p);
+    return {};
+  };
+  const bool has_shadow_pass =
+      std::any_of(plan.passes.begin(), plan.passes.end(),
+                  [](const PassPlan& p) { return p.kind == PassPlan::Kind::kShadow; });
   const std::vector<PreparedDraw> prepared = prepare_draws(scene, plan.frame.view_proj);
   for (const PreparedDraw& d : prepared) {
-    if (d.material < 0 || d.material >= static_cast<int>(plan.materials.size()))
+    if (d.material < 0 || d.material >= static_cast<int>(nm))
       return Status::error("gl: instance " + std::to_string(d.instance) + " has no material");
     if (programs[d.material]) continue;
     const BoundMaterial& m = plan.materials[d.material];
     if (!m.plugin) return Status::error("gl: material " + std::to_string(d.material) + " unbound");
-    const size_t before = programs_.size();
-    Result<const Program*> p = program_for(m, aovs, opt.count_work, &result.compile_ms);
-    if (!p.ok()) return p.status();
-    programs[d.material] = *p;
-    if (programs_.size() != before) fresh.push_back(d.material);
+    RELIEF_RETURN_IF_ERROR(get(m.plugin->name, m.effects, m.plugin->depth_output(m.effects), aovs,
+                               &programs[d.material]));
+  }
+  for (size_t mi = 0; mi < nm && has_shadow_pass; ++mi) {
+    const BoundMaterial& m = plan.materials[mi];
+    if (!m.plugin || !m.shadow_caster) continue;
+    if (m.shadow_effects)
+      RELIEF_RETURN_IF_ERROR(get(m.plugin->name, m.shadow_effects,
+                                 m.plugin->depth_output(m.shadow_effects), false,
+                                 &shadow_programs[mi]));
+    else
+      RELIEF_RETURN_IF_ERROR(get("depth_only", 0, DepthOutput::kNone, false, &shadow_programs[mi]));
   }
 
   // Uploads: textures (cached while the scene holds them) and this frame's vertex data.
@@ -512,33 +850,30 @@ Result<RenderResult> GlBackend::render(const Scene& scene, const Plan& plan,
       glDeleteBuffers(static_cast<GLsizei>(buffers.size()), buffers.data());
     }
   } transients{transient, transient_buffers};
-  std::vector<std::array<GLuint, kMaxTextureSlots>> tex_ids(plan.materials.size());
-  std::vector<std::array<GLuint, kMaxTextureSlots>> sampler_ids(plan.materials.size());
-  std::vector<GLuint> field_ids(plan.materials.size(), 0);
-  for (size_t mi = 0; mi < plan.materials.size(); ++mi) {
-    if (!programs[mi]) continue;
+  DrawTextures textures;
+  textures.tex.resize(nm);
+  textures.samplers.resize(nm);
+  textures.fields.assign(nm, 0);
+  for (size_t mi = 0; mi < nm; ++mi) {
+    if (!programs[mi] && !shadow_programs[mi]) continue;
     const BoundMaterial& m = plan.materials[mi];
-    const int depth_slot = slot_named(*m.plugin, "depth");
     for (int s = 0; s < kMaxTextureSlots; ++s) {
       const Texture* t = m.uniforms.textures[s];
-      tex_ids[mi][s] = t && !t->empty() ? texture_for(t, m, s == depth_slot, transient) : 0;
-      sampler_ids[mi][s] = t ? sampler_for(m.uniforms.samplers[s]) : 0;
+      textures.tex[mi][s] =
+          t && !t->empty() ? texture_for(t, m, upload_for(*m.plugin, s, *t), transient) : 0;
+      textures.samplers[mi][s] = t ? sampler_for(m.uniforms.samplers[s]) : 0;
     }
-    if (programs[mi]->height_field) {
+    if ((programs[mi] && programs[mi]->height_field) ||
+        (shadow_programs[mi] && shadow_programs[mi]->height_field)) {
       Result<GLuint> f = height_field_for(m, transient_buffers);
       if (!f.ok()) return f.status();
-      field_ids[mi] = *f;
+      textures.fields[mi] = *f;
     }
   }
-  if (opt.count_work && !counters_) {
+  if (count && !counters_) {
     glCreateBuffers(1, &counters_);
     glNamedBufferStorage(counters_, kCounterSlots * kCounterCount * sizeof(uint32_t), nullptr,
                          GL_DYNAMIC_STORAGE_BIT);
-  }
-  if (opt.count_work) {
-    const uint32_t zero = 0;
-    glClearNamedBufferData(counters_, GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kCountersBinding, counters_);
   }
   if (!vao_) {
     glCreateVertexArrays(1, &vao_);
@@ -560,103 +895,62 @@ Result<RenderResult> GlBackend::render(const Scene& scene, const Plan& plan,
     glVertexArrayElementBuffer(vao_, ebo_);
     glCreateQueries(GL_TIME_ELAPSED, 1, &query_);
   }
-  struct DrawRange {
-    size_t draw;
-    GLsizei count;
-    size_t index_offset;
-    GLint base_vertex;
-  };
-  std::vector<DrawRange> ranges;
-  size_t nv = 0, ni = 0;
-  for (const PreparedDraw& d : prepared) {
-    nv += d.clip.size();
-    ni += d.indices ? d.indices->size() : 0;
-  }
-  std::vector<glm::vec4> clip;
-  std::vector<float> vary;
-  std::vector<uint32_t> idx;
-  clip.reserve(nv);
-  vary.reserve(nv * varying::kCount);
-  idx.reserve(ni);
-  for (size_t i = 0; i < prepared.size(); ++i) {
-    const PreparedDraw& d = prepared[i];
-    if (!d.indices || d.indices->empty()) continue;
-    ranges.push_back(
-        {i, static_cast<GLsizei>(d.indices->size()), idx.size(), static_cast<GLint>(clip.size())});
-    clip.insert(clip.end(), d.clip.begin(), d.clip.end());
-    vary.insert(vary.end(), d.varyings.begin(), d.varyings.end());
-    idx.insert(idx.end(), d.indices->begin(), d.indices->end());
-  }
-  const size_t warmup_offset = idx.size();  // one degenerate triangle (see below)
-  idx.insert(idx.end(), {0u, 0u, 0u});
-  glNamedBufferData(vbo_clip_, static_cast<GLsizeiptr>(clip.size() * sizeof(glm::vec4)),
-                    clip.data(), GL_STREAM_DRAW);
-  glNamedBufferData(vbo_vary_, static_cast<GLsizeiptr>(vary.size() * sizeof(float)), vary.data(),
-                    GL_STREAM_DRAW);
-  glNamedBufferData(ebo_, static_cast<GLsizeiptr>(idx.size() * sizeof(uint32_t)), idx.data(),
-                    GL_STREAM_DRAW);
   RELIEF_RETURN_IF_ERROR(ensure_target(w, h, aovs));
   glFinish();
   result.upload_ms = ms_since(t_upload);
   RELIEF_RETURN_IF_ERROR(gl_check("upload"));
 
-  // The main pass (plans with shadow passes were refused above).
-  FrameUniforms frame = plan.frame;
-  frame.width = w;
-  frame.height = h;
-  glBindFramebuffer(GL_FRAMEBUFFER, fbo_);
-  glViewport(0, 0, w, h);
+  // Fixed state of every pass: reversed-Z, no blending, CCW front faces.
   glClipControl(GL_LOWER_LEFT, GL_ZERO_TO_ONE);
   glDisable(GL_BLEND);
   glDisable(GL_SCISSOR_TEST);
-  glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
   glDepthMask(GL_TRUE);
   glEnable(GL_DEPTH_TEST);
   glDepthFunc(GL_GREATER);
   glFrontFace(GL_CCW);
   glCullFace(GL_BACK);
   glBindVertexArray(vao_);
-  std::map<GLuint, int> material_of;  // material whose uniforms a program holds now
-  auto bind_material = [&](int mi) {
-    const BoundMaterial& m = plan.materials[mi];
-    const Program& p = *programs[mi];
-    glUseProgram(p.id);
-    auto [it, first_use] = material_of.emplace(p.id, -1);
-    if (first_use) {
-      set_frame_uniforms(p.id, p.loc, frame);
-      glProgramUniform2f(p.id, glGetUniformLocation(p.id, "viewport_size"), float(w), float(h));
-    }
-    if (it->second != mi) {
-      set_material_uniforms(p.id, p.loc, m.uniforms);
-      it->second = mi;
-    }
-    for (int s = 0; s < kMaxTextureSlots; ++s) {
-      glBindTextureUnit(s, tex_ids[mi][s]);
-      glBindSampler(s, sampler_ids[mi][s]);
-    }
-    if (p.height_field)
-      glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kHeightFieldBinding, field_ids[mi]);
-    if (m.double_sided)
-      glDisable(GL_CULL_FACE);
-    else
-      glEnable(GL_CULL_FACE);
-  };
-  // Drivers may finish compiling at the first draw (llvmpipe JITs its fragment code there): a
-  // degenerate triangle per new program, in the pass's state and before the clear, moves that
-  // cost into compile_ms so the pass time is the steady-state one.
-  if (!fresh.empty() && !clip.empty()) {
-    const auto t_warm = Clock::now();
-    for (int mi : fresh) {
-      bind_material(mi);
-      glDrawElementsBaseVertex(
-          GL_TRIANGLES, 3, GL_UNSIGNED_INT,
-          reinterpret_cast<const void*>(static_cast<uintptr_t>(warmup_offset * sizeof(uint32_t))),
-          0);
-    }
-    glFinish();
-    result.compile_ms += ms_since(t_warm);
+
+  // Shadow passes (plan order), then the receivers' view of each map.
+  std::vector<float> views(static_cast<size_t>(kMaxLights) * kShadowViewFloats, 0.0f);
+  for (const PassPlan& pass : plan.passes) {
+    if (pass.kind != PassPlan::Kind::kShadow) continue;
+    if (pass.light < 0 || pass.light >= kMaxLights)
+      return Status::error("gl: shadow pass \"" + pass.name + "\" has no light uniform");
+    RELIEF_RETURN_IF_ERROR(
+        shadow_pass(scene, plan, pass, shadow_programs, textures, fresh, count, result));
+    pack_shadow_view(pass.shadow, plan.shadow,
+                     &views[static_cast<size_t>(pass.light) * kShadowViewFloats]);
+  }
+  if (!shadow_views_) {
+    glCreateBuffers(1, &shadow_views_);
+    glNamedBufferStorage(shadow_views_, static_cast<GLsizeiptr>(views.size() * sizeof(float)),
+                         nullptr, GL_DYNAMIC_STORAGE_BIT);
+  }
+  glNamedBufferSubData(shadow_views_, 0, static_cast<GLsizeiptr>(views.size() * sizeof(float)),
+                       views.data());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kShadowViewsBinding, shadow_views_);
+  for (int l = 0; l < kMaxLights; ++l) {
+    auto it = shadow_textures_.find(l);
+    const bool mapped = it != shadow_textures_.end() &&
+                        views[static_cast<size_t>(l) * kShadowViewFloats + 1] > 0.0f;
+    glBindTextureUnit(kShadowUnit + l, mapped ? it->second.id : 0);
+    glBindSampler(kShadowUnit + l, 0);
   }
 
+  // The main pass.
+  FrameUniforms frame = plan.frame;
+  frame.width = w;
+  frame.height = h;
+  size_t warmup_offset = 0;
+  const std::vector<DrawRange> ranges = upload_draws(prepared, programs, &warmup_offset);
+  glBindFramebuffer(GL_FRAMEBUFFER, fbo_);
+  glViewport(0, 0, w, h);
+  glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+  BindCache cache;
+  auto bind = [&](const Program& p, int mi) { bind_material(p, mi, plan, frame, textures, cache); };
+  warm_up(fresh, programs, warmup_offset, bind, &result.compile_ms);
+  if (count) reset_counters();
   const auto t_pass = Clock::now();
   // Begun after binding the target: llvmpipe attributes a query to the framebuffer's scene.
   glBeginQuery(GL_TIME_ELAPSED, query_);
@@ -669,41 +963,12 @@ Result<RenderResult> GlBackend::render(const Scene& scene, const Plan& plan,
   }
   const float depth_clear = 0.0f;
   glClearNamedFramebufferfv(fbo_, GL_DEPTH, 0, &depth_clear);
-  for (const DrawRange& r : ranges) {
-    bind_material(prepared[r.draw].material);
-    glDrawElementsBaseVertex(
-        GL_TRIANGLES, r.count, GL_UNSIGNED_INT,
-        reinterpret_cast<const void*>(static_cast<uintptr_t>(r.index_offset * sizeof(uint32_t))),
-        r.base_vertex);
-  }
-  glEndQuery(GL_TIME_ELAPSED);
-  glFinish();
+  draw_ranges(ranges, [&](int mi) { bind(*programs[mi], mi); });
   PassStats main;
   main.name = "main";
-  main.ms = ms_since(t_pass);
-  GLuint64 ns = 0;
-  glGetQueryObjectui64v(query_, GL_QUERY_RESULT, &ns);
-  // A pass cannot take longer on the device than between its begin and glFinish; llvmpipe returns
-  // such values (threads that rasterised no bin report no start time), so they are dropped.
-  const double gpu_ms = static_cast<double>(ns) * 1e-6;
-  main.gpu_ms = gpu_ms > 0.0 && gpu_ms <= main.ms * 1.05 + 0.05 ? gpu_ms : -1.0;
+  end_pass(main, t_pass);
   RELIEF_RETURN_IF_ERROR(gl_check("main pass"));
-  if (opt.count_work) {
-    // The slots of common.glsl's WorkCountersBuffer, summed into the CPU's WorkCounters.
-    std::vector<uint32_t> c(kCounterSlots * kCounterCount);
-    glGetNamedBufferSubData(counters_, 0, static_cast<GLsizeiptr>(c.size() * sizeof(uint32_t)),
-                            c.data());
-    uint64_t sum[kCounterCount] = {};
-    for (int slot = 0; slot < kCounterSlots; ++slot)
-      for (int k = 0; k < kCounterCount; ++k) sum[k] += c[slot * kCounterCount + k];
-    WorkCounters& work = main.raster.work;
-    work.fragments = sum[0];
-    work.texture_fetches = sum[1];
-    work.search_steps = sum[2];
-    work.shadow_steps = sum[3];
-    work.discarded = sum[4];
-    RELIEF_RETURN_IF_ERROR(gl_check("work counters"));
-  }
+  if (count) RELIEF_RETURN_IF_ERROR(read_counters(main.raster.work));
   result.passes.push_back(main);
 
   // Read back, flipping rows: GL's row 0 is the bottom, the Image's the top.

@@ -1,7 +1,10 @@
 // Twin of plugins/relief_shell.h: the shell every height-field technique shares (parallax,
 // steep_parallax, pom, relief, exact): the per-fragment tangent frame, the view ray in texture
 // space, the constant LOD per quad, depth correction of the hit, shading at the hit with the
-// normal and base-colour maps, and the self-shadow hook. Policarpo, Oliveira and Comba,
+// normal and base-colour maps, and the visibility hook: the technique's self-shadow ray, then
+// (EFFECT_RECEIVE_SHADOW) the light's shadow map (shadow_map.glsl) looked up at the displaced hit
+// point; with EFFECT_SHADOW_PASS the shader stops after the intersection and the corrected depth
+// (the frame's eye is then the light). Policarpo, Oliveira and Comba,
 // "Real-Time Relief Mapping on Arbitrary Polygonal Surfaces", I3D 2005 (figure 10 for the shadow
 // ray, section 2 for the depth correction).
 //
@@ -13,6 +16,7 @@
 #include "ray.glsl"
 #include "search.glsl"
 #include "shadow.glsl"
+#include "shadow_map.glsl"
 
 const int kBaseColorSlot = 0;
 const int kNormalSlot = 1;
@@ -29,15 +33,21 @@ TextureDepth shell_depth;
 SearchHit shell_hit;
 float shell_depth_scale;
 ShadeOut shell_out;
+vec3 shell_pos, shell_n;  // the displaced hit point and its shading normal (receivers)
 
+// Self-shadow ray, then the light's shadow map where the ray left the point lit (vis > 0).
 float visibility(int i, vec3 l) {
+  float vis = 1.0;
 #if EFFECT_SELF_SHADOW
-  if (!has_texture[kDepthSlot]) return 1.0;
-  vec3 lt = to_tangent(shell_tf, l);
-  return shadow(shell_depth, shell_hit, light_step(lt, shell_depth_scale), lt.z, shell_out);
-#else
-  return 1.0;
+  if (has_texture[kDepthSlot]) {
+    vec3 lt = to_tangent(shell_tf, l);
+    vis = shadow(shell_depth, shell_hit, light_step(lt, shell_depth_scale), lt.z, shell_out);
+  }
 #endif
+#if EFFECT_RECEIVE_SHADOW
+  if (vis > 0.0) vis = vis * shadow_map_visibility(i, shell_pos, shell_n, l, shell_out.fetches);
+#endif
+  return vis;
 }
 
 ShadeOut shade(FragIn in_) {
@@ -87,6 +97,8 @@ ShadeOut shade(FragIn in_) {
   shell_hit = hit;
   shell_depth_scale = depth_scale;
   shell_out = o;
+  shell_pos = pos;
+  shell_n = n;
   vec3 color = blinn_phong(pos, n, -w, albedo);
   o = shell_out;
   o.color = color;

@@ -1,0 +1,202 @@
+// Twin of shaders_cpp/cone.h and plugins/cone_shell.h: cone stepping through the height field.
+//   conservative cone stepping: Dummer, "Cone Step Mapping: An Iterative Ray-Heightfield
+//     Intersection Algorithm", 2006;
+//   quad-directional cones and relaxed cone stepping + binary search: Policarpo and Oliveira,
+//     "Relaxed Cone Stepping for Relief Mapping", GPU Gems 3, ch. 18, 2007 (section 18.4.2,
+//     equations 1-4, listing 18-3 and figure 18-10).
+// Each function keeps its C++ name and follows it operation by operation; change both together.
+//
+// The cone map is texture slot 3 (kConeSlot); gl/gl_backend.cpp uploads it as 32-bit float of
+// the values Texture::fetch decodes (RGBA16F and R32F maps lose nothing), and the depth slot as
+// R32F. Cone maps and the relaxed march's depth are read with the CPU's nearest-texel rule
+// exactly (rasterizer/texture.cpp: level by GL's MIPMAP_NEAREST choice, floor(u * size), the
+// sampler's wrap) through texelFetch, so no driver rounding of nearest coordinates enters. The
+// march's filtered depth is the CPU's sample_r_lod too, re-done on texelFetch (sample_r_lod_cpu):
+// a cone step stops where h = D - t <= 0, and on a light ray entering above a flat top (D = 0)
+// llvmpipe's filter weights (a few 1e-7 off the CPU's) decided that test the other way on 3% of
+// the pixels of `plane`.
+// texture_sampler[slot] holds the slot's (filter, wrap_u, wrap_v) as rasterizer/texture.h's
+// Filter and Wrap values.
+
+const int kConeSlot = 3;
+const int kWrapRepeat = 0;
+const int kWrapClamp = 1;
+const int kWrapMirror = 2;
+const int kFilterNearest = 0;
+const int kFilterBilinear = 1;
+uniform ivec3 texture_sampler[kMaxTextureSlots];
+
+// Depth units an occluder must rise above the shadow ray (plugins/cone_shell.h).
+const float kConeShadowBias = 0.01;
+
+// rasterizer/texture.h wrap_texel (GLSL's % is undefined for negative operands).
+int wrap_texel(int i, int size, int w) {
+  if (i >= 0 && i < size) return i;
+  if (w == kWrapClamp) return i < 0 ? 0 : size - 1;
+  if (w == kWrapMirror) {
+    int p = 2 * size;
+    int m = i >= 0 ? i % p : (p - 1) - ((-i - 1) % p);
+    int a = m - size;
+    int mirrored = a >= 0 ? a : -(1 + a);
+    return (size - 1) - mirrored;
+  }
+  return i >= 0 ? i % size : (size - 1) - ((-i - 1) % size);
+}
+
+// rasterizer/texture.cpp: sanitize_lod, nearest_level, scaled_coord.
+float sanitize_lod(float lod) { return isnan(lod) ? 0.0 : clamp(lod, -64.0, 64.0); }
+int nearest_level(float lod, int q) {
+  if (q == 0 || lod <= 0.5) return 0;
+  if (lod > float(q) + 0.5) return q;
+  return min(int(ceil(lod + 0.5)) - 1, q);
+}
+float scaled_coord(float u, int size, float offset) {
+  if (isnan(u)) u = 0.0;
+  precise float x = u * float(size) - offset;
+  return clamp(x, -67108864.0, 67108864.0);
+}
+
+// The size of a mip level. Not textureSize(t, level): llvmpipe answers it with the first lane's
+// level for every lane (measured: 40 of 47k plane pixels, where the lanes of one SIMD group sit
+// on both sides of an integer LOD, read the wrong level). GL's chain: max(1, size >> level).
+ivec2 level_size(int slot, int level) { return max(textureSize(textures[slot], 0) >> level, 1); }
+
+// sample_nearest of one level: the texel under uv.
+vec4 sample_nearest_level(int slot, vec2 uv, int level) {
+  ivec2 size = level_size(slot, level);
+  ivec3 s = texture_sampler[slot];
+  int x = wrap_texel(int(floor(scaled_coord(uv.x, size.x, 0.0))), size.x, s.y);
+  int y = wrap_texel(int(floor(scaled_coord(uv.y, size.y, 0.0))), size.y, s.z);
+  return texelFetch(textures[slot], ivec2(x, y), level);
+}
+
+// sample_lod with Filter::kNearest: the texel under uv on the level nearest lod.
+vec4 sample_nearest(int slot, vec2 uv, float lod) {
+  int level = nearest_level(sanitize_lod(lod), textureQueryLevels(textures[slot]) - 1);
+  return sample_nearest_level(slot, uv, level);
+}
+
+// sample_bilinear, first channel, in the CPU's lerp form (constant regions stay exact).
+float sample_bilinear_r(int slot, vec2 uv, int level) {
+  ivec2 size = level_size(slot, level);
+  ivec3 s = texture_sampler[slot];
+  float xf = scaled_coord(uv.x, size.x, 0.5);
+  float yf = scaled_coord(uv.y, size.y, 0.5);
+  float fx = floor(xf), fy = floor(yf);
+  precise float a = xf - fx;
+  precise float b = yf - fy;
+  int ix = int(fx), iy = int(fy);
+  int x0 = wrap_texel(ix, size.x, s.y), x1 = wrap_texel(ix + 1, size.x, s.y);
+  int y0 = wrap_texel(iy, size.y, s.z), y1 = wrap_texel(iy + 1, size.y, s.z);
+  float t00 = texelFetch(textures[slot], ivec2(x0, y0), level).r;
+  float t10 = texelFetch(textures[slot], ivec2(x1, y0), level).r;
+  float t01 = texelFetch(textures[slot], ivec2(x0, y1), level).r;
+  float t11 = texelFetch(textures[slot], ivec2(x1, y1), level).r;
+  precise float top = t00 + a * (t10 - t00);
+  precise float bottom = t01 + a * (t11 - t01);
+  precise float r = top + b * (bottom - top);
+  return r;
+}
+
+// rasterizer/texture.cpp sample_r_lod: the slot's filter (anisotropic as trilinear) at lod.
+float sample_r_lod_cpu(int slot, vec2 uv, float lod) {
+  lod = sanitize_lod(lod);
+  int q = textureQueryLevels(textures[slot]) - 1;
+  int filter_ = texture_sampler[slot].x;
+  bool nearest = filter_ == kFilterNearest;
+  if (q == 0 || lod <= 0.0)
+    return nearest ? sample_nearest_level(slot, uv, 0).r : sample_bilinear_r(slot, uv, 0);
+  if (nearest || filter_ == kFilterBilinear) {
+    int level = nearest_level(lod, q);
+    return nearest ? sample_nearest_level(slot, uv, level).r : sample_bilinear_r(slot, uv, level);
+  }
+  if (lod >= float(q)) return sample_bilinear_r(slot, uv, q);
+  float fl = floor(lod);
+  int d1 = int(fl);
+  precise float f = lod - fl;
+  float t1 = sample_bilinear_r(slot, uv, d1);
+  if (f == 0.0) return t1;
+  float t2 = sample_bilinear_r(slot, uv, d1 + 1);
+  precise float r = t1 + f * (t2 - t1);
+  return r;
+}
+
+// A cone source (TextureCone, or QuadTextureCone when quad) at the depth map's LOD; cu, cv are
+// QuadTextureCone::aim's channels (0: +u, 1: -u; 2: +v, 3: -v).
+struct ConeSource {
+  float lod;
+  bool quad;
+  int cu, cv;
+};
+
+ConeSource make_cone_source(TextureDepth depth, bool quad) { return ConeSource(depth.lod, quad, 0, 2); }
+
+ConeSource aim(ConeSource c, vec2 ds) {
+  c.cu = ds.x >= 0.0 ? 0 : 1;
+  c.cv = ds.y >= 0.0 ? 2 : 3;
+  return c;
+}
+
+float cone_ratio(ConeSource c, vec2 p) {
+  vec4 r = sample_nearest(kConeSlot, p, c.lod);
+  if (!c.quad) return r.x;
+  float a = r[c.cu], b = r[c.cv];
+  return a < b ? b : a;
+}
+
+// The march's depth: the material's filtering, or (nearest) NearestTextureDepth's texel.
+float march_depth(TextureDepth depth, bool nearest, vec2 p) {
+  return nearest ? sample_nearest(kDepthSlot, p, depth.lod).r
+                 : sample_r_lod_cpu(kDepthSlot, p, depth.lod);
+}
+
+// cone_march: n cone steps from depth 0, capped at t_max; two fetches per step.
+SearchHit cone_march(TextureDepth depth, bool nearest, ConeSource cone, vec2 uv, vec2 ds, int n,
+                     float t_max) {
+  float ray_ratio = sqrt(ds.x * ds.x + ds.y * ds.y);
+  float t = 0.0, steps = 0.0, fetches = 0.0;
+  bool marching = t < t_max;
+  for (int i = 0; i < n && marching; ++i) {
+    vec2 p = uv + ds * t;
+    float d = march_depth(depth, nearest, p);
+    float r = cone_ratio(cone, p);
+    steps += 1.0;
+    fetches += 2.0;
+    float h = d - t;
+    marching = marching && h > 0.0;
+    // distance to the cone's surface along the ray (equation 3)
+    float den = ray_ratio + r;
+    bool moves = marching && den > 0.0;
+    float step_ = r * h / (moves ? den : 1.0);
+    t = moves ? min(t + step_, t_max) : t;
+    marching = marching && t < t_max;
+  }
+  return SearchHit(uv + ds * t, t, steps, fetches);
+}
+
+// Relaxed cone stepping (n steps, nearest-texel depth) then m halvings from H (t_K / 2) to K.
+SearchHit relaxed_cone_search(TextureDepth depth, ConeSource cone, vec2 uv, vec2 ds, int n, int m) {
+  SearchHit hit = cone_march(depth, true, cone, uv, ds, n, 1.0);
+  Bracket hk = Bracket(hit.depth * 0.5, 0.0, hit.depth, 0.0);
+  return binary_search(depth, uv, ds, hk, m, hit);
+}
+
+// light_ray_shadow + cone_light_visibility: the light ray lowered by kConeShadowBias enters the
+// depth range at uv + dl t_max and is marched down to t_max; stopping short of it is shadow.
+// Called on lit fragments only (the C++ `lit` mask). relaxed: the plain cone march on the
+// material's depth (relaxed_cone.cpp's shadow), else cone_search (the same march).
+float cone_light_visibility(TextureDepth depth, ConeSource cone, SearchHit hit, vec2 dl, float lz,
+                            int n, inout ShadeOut o) {
+  bool lit_side = lz > 0.0;
+  float t_max = hit.depth - kConeShadowBias;
+  bool trace = lit_side && t_max > 0.0;
+  float vis = lit_side ? 1.0 : 0.0;
+  if (!trace) return vis;
+  vec2 entry = hit.uv + dl * t_max;
+  vec2 down = vec2(0.0 - dl.x, 0.0 - dl.y);
+  if (cone.quad) cone = aim(cone, down);
+  SearchHit h = cone_march(depth, false, cone, entry, down, n, t_max);
+  o.shadow_steps += h.steps;
+  o.fetches += h.fetches;
+  return h.depth < t_max ? 0.0 : vis;
+}
