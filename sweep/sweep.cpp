@@ -115,7 +115,7 @@ class Runner {
     r.technique = s.technique;
     r.params = s.params;
     r.shadows = false;
-    r.self_shadow = true;
+    r.self_shadow = opt_.self_shadow;
     if (aovs) r.aovs = aov_bit(Aov::kHitUv) | aov_bit(Aov::kHitDepth);
     return r;
   }
@@ -158,7 +158,7 @@ class Runner {
       const float base = luminance(r_dark->framebuffer.color.pixels[i]);
       const float sun = luminance(r_off->framebuffer.color.pixels[i]) - base;
       if (!(sun >= 0.05f)) continue;
-      m.visible[i] = (luminance(m.on.color.pixels[i]) - base) / sun < 0.5f;
+      if (opt_.self_shadow) m.visible[i] = (luminance(m.on.color.pixels[i]) - base) / sun < 0.5f;
     }
     // the counting pass
     const PluginDescriptor* plugin = PluginRegistry::global().find(s.technique);

@@ -95,6 +95,9 @@ struct Options {
   int warmup = 1;
   int repeats = 5;
   bool keep_images = false;  // keep colour images and heat maps (the HTML report)
+  // Self-shadow rays on (the fields' materials ask for them). Off, the fetches are the search's
+  // plus the shading's, and no self-shadow disagreement is measured (shadow_compared 0).
+  bool self_shadow = true;
   // Called after each row (and each reference): rows done, rows in all, what was just done.
   std::function<void(int, int, const std::string&)> progress;
 };

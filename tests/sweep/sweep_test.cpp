@@ -1,0 +1,291 @@
+// The accuracy/cost sweep (sweep/sweep.h, issue 8) at tiny sizes: exact against itself is exactly
+// zero error, errors are never negative and fractions stay in [0, 1], more linear steps never
+// cost fewer fetches, per-fragment work adds up to the frame's counters, the view's ray step is
+// the one exact's hits lie on, the Pareto front, the view angles of a scene, and --target-error's
+// pick holding on views that were not used to pick it.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <map>
+#include <set>
+#include <string>
+
+#include "plugins/registry.h"
+#include "render/render.h"
+#include "scene/builtin.h"
+#include "shaders_cpp/exact.h"
+#include "sweep/sweep.h"
+
+namespace relief::sweep {
+namespace {
+
+// The pattern field shrunk to 64 x 64 texels (the same quadrants, walls one texel wide), so that a
+// 40 x 40 frame samples all of it.
+Field small_pattern() {
+  Result<std::vector<Field>> b = builtin_fields();
+  EXPECT_TRUE(b.ok());
+  Field f = b->at(1);
+  EXPECT_EQ(f.name, "pattern");
+  Texture t = make_pattern_depth(64);
+  f.material.textures["depth"] = std::make_shared<Texture>(t);
+  return f;
+}
+
+Field bricks() {
+  Result<std::vector<Field>> b = builtin_fields();
+  EXPECT_TRUE(b.ok());
+  return b->at(0);
+}
+
+Options tiny(std::vector<double> angles, int size = 40) {
+  Options o;
+  o.width = size;
+  o.height = size;
+  o.threads = 2;
+  o.angles = std::move(angles);
+  o.warmup = 0;
+  o.repeats = 1;
+  return o;
+}
+
+std::vector<Setting> settings(const std::vector<std::string>& techniques,
+                              const std::vector<int>& steps) {
+  std::vector<Setting> out;
+  for (const std::string& t : techniques) {
+    const PluginDescriptor* p = PluginRegistry::global().find(t);
+    EXPECT_NE(p, nullptr) << t;
+    if (!p) continue;
+    for (Setting& s : settings_for(*p, steps)) out.push_back(s);
+  }
+  return out;
+}
+
+// Techniques that march a depth map linearly: a `steps` parameter and no cone map.
+std::vector<std::string> linear_search_techniques() {
+  std::vector<std::string> out;
+  for (const std::string& t : sweep_techniques()) {
+    const PluginDescriptor* p = PluginRegistry::global().find(t);
+    bool cone = false;
+    for (int s = 0; s < p->num_textures; ++s)
+      cone |= std::strncmp(p->textures[s].name, "cone", 4) == 0;
+    if (!cone && param_index(*p, "steps") >= 0) out.push_back(t);
+  }
+  return out;
+}
+
+TEST(Sweep, ExactAgainstItselfIsExactlyZero) {
+  Result<SweepResult> r = run_sweep({small_pattern()}, settings({"exact"}, {}), tiny({0, 45, 85}));
+  ASSERT_TRUE(r.ok()) << r.status().message();
+  ASSERT_EQ(r->rows.size(), 3u);
+  for (const Row& row : r->rows) {
+    EXPECT_EQ(row.fragments, 40 * 40) << row.angle;
+    EXPECT_EQ(row.hit_err_mean, 0.0);
+    EXPECT_EQ(row.hit_err_p99, 0.0);
+    EXPECT_EQ(row.depth_err_mean, 0.0);
+    EXPECT_EQ(row.depth_err_p99, 0.0);
+    EXPECT_EQ(row.wrong_layer_frac, 0.0);
+    EXPECT_EQ(row.rmse, 0.0);
+    EXPECT_EQ(row.psnr_db, kPsnrCap);
+    EXPECT_EQ(row.shadow_disagree_frac, 0.0);
+    EXPECT_GT(row.shadow_compared, 0);
+    EXPECT_GT(row.fetches_mean, 0.0);
+  }
+}
+
+TEST(Sweep, ErrorsAreNeverNegativeAndFractionsStayInUnitRange) {
+  Result<SweepResult> r =
+      run_sweep({small_pattern()}, settings(sweep_techniques(), {4, 16}), tiny({30, 80}));
+  ASSERT_TRUE(r.ok()) << r.status().message();
+  bool some_error = false, some_wrong = false;
+  for (const Row& row : r->rows) {
+    const std::string what = row.setting + " @ " + std::to_string(row.angle);
+    for (double v : {row.ns_median, row.ns_min, row.ns_max, row.fetches_mean, row.fetches_p99,
+                     row.steps_mean, row.steps_p99, row.hit_err_mean, row.hit_err_p99,
+                     row.depth_err_mean, row.depth_err_p99, row.rmse, row.psnr_db}) {
+      EXPECT_TRUE(std::isfinite(v)) << what;
+      EXPECT_GE(v, 0.0) << what;
+    }
+    EXPECT_LE(row.ns_min, row.ns_median) << what;
+    EXPECT_LE(row.ns_median, row.ns_max) << what;
+    for (double f : {row.wrong_layer_frac, row.shadow_disagree_frac}) {
+      EXPECT_GE(f, 0.0) << what;
+      EXPECT_LE(f, 1.0) << what;
+    }
+    EXPECT_LE(row.depth_err_p99, 1.0) << what;
+    some_error |= row.hit_err_p99 > 0.5;
+    some_wrong |= row.wrong_layer_frac > 0.0;
+  }
+  // 4 linear steps at 80 degrees step over the one-texel walls: the metric sees it
+  EXPECT_TRUE(some_error);
+  EXPECT_TRUE(some_wrong);
+}
+
+// More steps never cost fewer fetches where the search found exact's layer. Self-shadow off, the
+// fetches are the search's plus the shading's. With n and 2n linear steps the samples are nested,
+// so the 2n search's first sample inside the surface is never later than the n search's; when
+// that one lies in the first inside span (the hit is on exact's layer) the 2n search's lies in
+// the same span, at most 1/(2n) earlier, and costs at least as many fetches. Unconditionally the
+// claim is false: a search that steps over a thin structure with n steps and lands on it with 2n
+// stops earlier (bricks at 85 degrees: 4.67 -> 4.57 fetches a fragment from 4 to 8 steps; with
+// self-shadow on, shallower hits also shorten the shadow rays: steep_parallax 4 -> 8 at 0 degrees
+// goes 16.8 -> 15.3). Pairs where the n-step search hit the wrong layer are skipped and counted.
+TEST(Sweep, MoreStepsNeverCostFewerFetchesForLinearSearches) {
+  const std::vector<std::string> linear = linear_search_techniques();
+  ASSERT_GE(linear.size(), 3u);  // steep_parallax, pom, relief at least
+  int compared = 0, skipped = 0;
+  for (const Field& field : {small_pattern(), bricks()}) {
+    Options o = tiny({0, 60, 85}, 32);
+    o.self_shadow = false;
+    Result<SweepResult> r = run_sweep({field}, settings(linear, {4, 8, 16, 32, 64}), o);
+    ASSERT_TRUE(r.ok()) << r.status().message();
+    std::map<std::pair<std::string, double>, const Row*> last;
+    for (const Row& row : r->rows) {
+      const auto key = std::pair{row.technique, row.angle};
+      auto it = last.find(key);
+      if (it != last.end() && it->second->wrong_layer_frac > 0.0) {
+        ++skipped;
+      } else if (it != last.end()) {
+        ++compared;
+        EXPECT_GE(row.fetches_mean, it->second->fetches_mean)
+            << field.name << " " << row.setting << " @ " << row.angle;
+      }
+      last[key] = &row;
+    }
+  }
+  RecordProperty("pairs_compared", compared);
+  RecordProperty("pairs_skipped_wrong_layer", skipped);
+  EXPECT_GE(compared, 20);
+}
+
+// The counting pass (each fragment shaded alone) adds up to the counters of a normal frame.
+TEST(Sweep, PerFragmentWorkAddsUpToTheFrameCounters) {
+  const Field field = small_pattern();
+  for (const Setting& s : settings({"relief", "relaxed_cone", "exact"}, {8})) {
+    Result<SweepResult> r = run_sweep({field}, {s}, tiny({60}));
+    ASSERT_TRUE(r.ok()) << r.status().message();
+    const Row& row = r->rows.back();
+    const Scene scene = view_scene(field, 60, 40, 40);
+    RenderOptions ro;
+    ro.width = ro.height = 40;
+    ro.threads = 2;
+    ro.technique = s.technique;
+    ro.params = s.params;
+    ro.shadows = false;
+    Result<Plan> plan = make_plan(scene, ro);
+    ASSERT_TRUE(plan.ok());
+    Result<RenderResult> fr = make_cpu_backend(2)->render(scene, *plan, ro);
+    ASSERT_TRUE(fr.ok());
+    WorkCounters w;
+    for (const PassStats& p : fr->passes) w += p.raster.work;
+    ASSERT_EQ(static_cast<long>(w.fragments), row.fragments);
+    EXPECT_NEAR(row.fetches_mean * row.fragments, static_cast<double>(w.texture_fetches), 0.5)
+        << s.label;
+    EXPECT_NEAR(row.steps_mean * row.fragments, static_cast<double>(w.search_steps), 0.5)
+        << s.label;
+  }
+}
+
+// The sweep's view: every exact hit lies on the ray uv0 + t * ds through its pixel's geometric uv
+// (the `normal` plugin's uv AOV), at the row's angle.
+TEST(Sweep, ViewRayStepIsTheOneExactHitsLieOn) {
+  const Field field = small_pattern();
+  for (double angle : {0.0, 30.0, 75.0}) {
+    const Scene scene = view_scene(field, angle, 40, 40);
+    RenderOptions ro;
+    ro.width = ro.height = 40;
+    ro.threads = 2;
+    ro.shadows = false;
+    ro.aovs = aov_bit(Aov::kHitUv) | aov_bit(Aov::kHitDepth);
+    auto render = [&](const std::string& t) {
+      ro.technique = t;
+      Result<Plan> plan = make_plan(scene, ro);
+      EXPECT_TRUE(plan.ok());
+      Result<RenderResult> r = make_cpu_backend(2)->render(scene, *plan, ro);
+      EXPECT_TRUE(r.ok());
+      return std::move(r->framebuffer);
+    };
+    const Framebuffer geo = render("normal"), ex = render("exact");
+    const glm::dvec2 ds = view_ray_step(field, angle);
+    EXPECT_NEAR(std::hypot(ds.x, ds.y), field.depth_scale() * std::tan(angle * M_PI / 180), 1e-6);
+    double worst = 0.0;
+    for (size_t i = 0; i < ex.depth.values.size(); ++i) {
+      const float* g = &geo.aov[i * kAovTotalChannels];
+      const float* e = &ex.aov[i * kAovTotalChannels];
+      const double t = e[kAovOffset[1]];
+      worst =
+          std::max({worst, std::fabs(g[0] + t * ds.x - e[0]), std::fabs(g[1] + t * ds.y - e[1])});
+    }
+    EXPECT_LT(worst * 64, 0.01) << angle;  // in texels of the 64-texel map
+  }
+}
+
+TEST(Sweep, ParetoFrontKeepsOnlyUnbeatenRows) {
+  std::vector<Row> rows(5);
+  const double ns[] = {100, 200, 150, 300, 120};
+  const double err[] = {5, 1, 2, 0, 6};
+  for (int i = 0; i < 5; ++i) {
+    rows[i].ns_median = ns[i];
+    rows[i].hit_err_p99 = err[i];
+  }
+  // 100/5, 150/2, 200/1, 300/0 are on the front; 120/6 is beaten by 100/5
+  EXPECT_EQ(pareto_front(rows), (std::vector<size_t>{0, 2, 1, 3}));
+}
+
+TEST(Sweep, ViewAnglesOfTheSweepsOwnViewAreItsAngle) {
+  const Field field = bricks();
+  for (double angle : {0.0, 45.0, 80.0}) {
+    const Scene scene = view_scene(field, angle, 64, 48);
+    EXPECT_EQ(scene_view_angles(scene, 0, 0, 64, 48), std::vector<double>{angle}) << angle;
+  }
+  // the `plane` scene's perspective camera sees its quad at 45 degrees in the centre, a range
+  Result<Scene> plane = make_builtin_scene("plane");
+  ASSERT_TRUE(plane.ok());
+  const std::vector<double> a = scene_view_angles(*plane, 0, 0, 64, 36);
+  ASSERT_GE(a.size(), 2u);
+  EXPECT_LT(a.front(), 45.0);
+  EXPECT_GT(a.back(), 45.0);
+  EXPECT_LE(a.back(), 89.0);
+}
+
+// --target-error: picked on views at 0, 40 and 70 degrees, the setting's p99 error stays under
+// the target on held-back views at 20 and 55 degrees that played no part in the choice. Which
+// setting is cheapest depends on the timings of this (noisy) machine, so the held-back check runs
+// on every setting the pick could have chosen (under the target at all picking views), and at
+// least one of them is not `exact` (whose error is zero by definition).
+TEST(Sweep, TargetErrorPickHoldsOnHeldBackViews) {
+  const Field field = bricks();
+  const std::vector<Setting> all =
+      settings({"steep_parallax", "pom", "relief", "exact"}, {4, 8, 16, 32, 64});
+  const std::vector<double> pick_angles = {0, 40, 70};
+  const double target = 1.0;
+  Result<SweepResult> picked = run_sweep({field}, all, tiny(pick_angles, 48));
+  ASSERT_TRUE(picked.ok()) << picked.status().message();
+  const Pick p = pick_cheapest(picked->rows, field.name, pick_angles, target);
+  ASSERT_TRUE(p.found) << p.why;
+  EXPECT_NE(p.why.find("chose    " + p.setting), std::string::npos) << p.why;
+  EXPECT_LT(p.worst_p99, target);
+  RecordProperty("picked", p.setting);
+  std::vector<Setting> eligible;
+  for (const Setting& s : all) {
+    std::vector<Row> own;
+    for (const Row& r : picked->rows)
+      if (r.setting == s.label) own.push_back(r);
+    if (pick_cheapest(own, field.name, pick_angles, target).found) eligible.push_back(s);
+  }
+  ASSERT_GE(eligible.size(), 2u);  // exact and at least one search
+  EXPECT_TRUE(std::any_of(eligible.begin(), eligible.end(),
+                          [&](const Setting& s) { return s.label == p.setting; }));
+  Result<SweepResult> held = run_sweep({field}, eligible, tiny({20, 55}, 48));
+  ASSERT_TRUE(held.ok());
+  for (const Row& row : held->rows) {
+    RecordProperty(
+        "held_back_p99_" + row.setting + "_" + std::to_string(static_cast<int>(row.angle)),
+        std::to_string(row.hit_err_p99));
+    EXPECT_LT(row.hit_err_p99, target) << row.setting << " @ " << row.angle;
+  }
+}
+
+}  // namespace
+}  // namespace relief::sweep
