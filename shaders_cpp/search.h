@@ -15,13 +15,17 @@
 //
 // A depth source is any object with `float operator()(int lane, float u, float v) const`; lane is
 // the lane index within F (0 for float), so a source can hold one LOD per quad. TextureDepth reads
-// a depth texture through sample_r_lod at a constant LOD.
+// a depth texture through sample_r_lod at a constant LOD. A source may also offer
+// `F lanes(V2<F> uv) const`, every lane at once with the same values; sample_depth prefers it.
 #pragma once
+
+#include <type_traits>
 
 #include <glm/vec2.hpp>
 
 #include "rasterizer/texture.h"
 #include "shaders_cpp/lanes.h"
+#include "shaders_cpp/sampling_simd.h"
 #include "shaders_cpp/vec.h"
 
 namespace relief {
@@ -33,6 +37,15 @@ struct TextureDepth {
   float lod[8] = {};
   float operator()(int lane, float u, float v) const {
     return sample_r_lod(*texture, *sampler, glm::vec2(u, v), lod[lane]);
+  }
+  // All lanes through the lane-parallel sampler (bit-identical to operator() per lane).
+  template <class F> F lanes(V2<F> uv) const {
+    F l;
+    for (int k = 0; k < lane_width<F>; ++k) set_lane(l, k, lod[k]);
+    if constexpr (std::is_same_v<F, F8>)
+      return texture_r_lod_dispatch(*texture, *sampler, uv, l);
+    else
+      return texture_r_lod(*texture, *sampler, uv, l);
   }
 };
 
@@ -55,6 +68,8 @@ struct Bracket {
 // One depth sample per active lane; inactive lanes read 0 without a fetch.
 template <class F, class Depth>
 inline F sample_depth(const Depth& depth, V2<F> uv, mask_t<F> active) {
+  // Inactive lanes are sampled too (the sampler takes any uv) and then read as 0.
+  if constexpr (requires { depth.lanes(uv); }) return select(active, depth.lanes(uv), F(0.0f));
   return per_lane(F(0.0f), [&](int i) {
     return lane(active, i) ? depth(i, lane(uv.x, i), lane(uv.y, i)) : 0.0f;
   });
