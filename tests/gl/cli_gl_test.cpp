@@ -1,0 +1,86 @@
+// The GL side of the CLI as a user meets it (issue 7): `relief info` lists backends and devices,
+// `--gpu N` picks an EGL device (a missing one is a one-line error, no output file), a GL frame's
+// statistics carry the GL_TIME_ELAPSED time of every pass (shadow passes included), the wall time
+// after glFinish and the first-frame compile time apart, and a broken shader file is a one-line
+// error naming the file and line.
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "apps/cli_run.h"
+#include "gl_test_util.h"
+
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string tmp(const std::string& name) {
+  return (fs::path(testing::TempDir()) / name).string();
+}
+
+TEST(GlCli, InfoListsBackendsAndDevices) {
+  const CliRun r = run("info");
+  ASSERT_EQ(r.code, 0) << r.out;
+  EXPECT_NE(r.out.find("cpu"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("gl"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("EGL devices"), std::string::npos) << r.out;
+}
+
+TEST(GlCli, MissingGpuIsOneLineErrorAndNoFile) {
+  const std::string png = tmp("gl_gpu.png");
+  fs::remove(png);
+  const CliRun r = run("render plane --backend gl --gpu 100000 --size 32x24 -o " + png);
+  EXPECT_EQ(r.code, 1) << r.out;
+  EXPECT_EQ(lines(r.out), 1) << r.out;
+  EXPECT_FALSE(fs::exists(png));
+}
+
+TEST(GlCli, StatsCarryGpuTimePerPassAndCompileTimeApart) {
+  RELIEF_REQUIRE_GL();
+  const std::string png = tmp("gl_room.png"), stats = tmp("gl_room.json");
+  const CliRun r = run("render room --backend gl --size 96x72 --stats " + stats + " -o " + png);
+  ASSERT_EQ(r.code, 0) << r.out;
+  std::ifstream in(stats);
+  const nlohmann::json j = nlohmann::json::parse(in);
+  // The renderer string is printed and recorded.
+  const std::string device = j.at("device");
+  EXPECT_FALSE(device.empty());
+  EXPECT_NE(r.out.find(device), std::string::npos) << r.out;
+  // A fresh process compiles its programs: the first frame's compile time is reported apart.
+  EXPECT_GT(j.at("compile_ms").get<double>(), 0.0);
+  ASSERT_EQ(j.at("passes").size(), 2u);  // room: the spot light's shadow pass, then main
+  EXPECT_EQ(j["passes"][0].at("kind"), "shadow");
+  EXPECT_EQ(j["passes"][1].at("kind"), "main");
+  for (const nlohmann::json& p : j["passes"]) {
+    EXPECT_GT(p.at("ms").get<double>(), 0.0);
+    // GL_TIME_ELAPSED in ms, or -1 where the driver's answer cannot be right (see gl_backend.h)
+    const double gpu = p.at("gpu_ms").get<double>();
+    EXPECT_TRUE(gpu == -1.0 || (gpu > 0.0 && gpu <= p.at("ms").get<double>() * 1.05 + 0.05)) << gpu;
+  }
+}
+
+TEST(GlCli, BrokenShaderFileIsOneLineErrorWithFileAndLine) {
+  RELIEF_REQUIRE_GL();
+  // A shader folder searched first, holding a flat.frag with an error on line 3.
+  const fs::path dir = fs::path(testing::TempDir()) / "gl_broken_shaders";
+  fs::create_directories(dir);
+  {
+    std::ofstream f(dir / "flat.frag");
+    f << "#version 450 core\n#include \"common.glsl\"\nvoid main() { undeclared_thing = 1.0; }\n";
+  }
+  const std::string png = tmp("gl_broken.png");
+  fs::remove(png);
+  const CliRun r = run_shell("RELIEF_GL_SHADER_DIR=" + dir.string() + " " + RELIEF_CLI +
+                             " render plane --technique flat --backend gl --size 32x24 -o " + png);
+  EXPECT_NE(r.code, 0) << r.out;
+  EXPECT_EQ(lines(r.out), 1) << r.out;
+  EXPECT_NE(r.out.find("flat.frag:3"), std::string::npos) << r.out;
+  EXPECT_FALSE(fs::exists(png));
+}
+
+}  // namespace
