@@ -54,6 +54,22 @@ template <class F> mask_t<F> covered_lanes(const FragIn<F>& in) {
   return m;
 }
 
+// The material's depth map (slot kDepthSlot) at a constant LOD per quad: the derivatives are per
+// quad, so the LOD is computed at a quad's first lane and copied to the other three. No LOD when
+// the slot is empty (the source must then not be sampled).
+template <class F> TextureDepth material_depth(const MaterialUniforms& m, const FragIn<F>& in) {
+  TextureDepth depth;
+  depth.texture = m.textures[kDepthSlot];
+  depth.sampler = &m.samplers[kDepthSlot];
+  if (depth.texture)
+    for (int i = 0; i < lane_width<F>; ++i)
+      depth.lod[i] = (i > 0 && ((in.lane0 + i) & 3) != 0)
+                         ? depth.lod[i - 1]
+                         : compute_lod(*depth.texture, {lane(in.duv_dx.x, i), lane(in.duv_dx.y, i)},
+                                       {lane(in.duv_dy.x, i), lane(in.duv_dy.y, i)});
+  return depth;
+}
+
 template <class Search, EffectMask kEffects> struct ReliefKernel {
   static constexpr bool kShadow = (kEffects & kEffectSelfShadow) != 0;
   static constexpr bool kDepth = (kEffects & (kEffectDepthWrite | kEffectShadowPass)) != 0;
@@ -71,20 +87,9 @@ template <class Search, EffectMask kEffects> struct ReliefKernel {
     const V2<F> ds = texture_step(V, depth_scale);
     const mask_t<F> active = covered_lanes(in);
     const Texture* dtex = m.textures[kDepthSlot];
-    TextureDepth depth;
-    depth.texture = dtex;
-    depth.sampler = &m.samplers[kDepthSlot];
+    const TextureDepth depth = material_depth(m, in);
     SearchHit<F> hit{in.uv, F(0.0f), F(0.0f), F(0.0f)};
-    if (dtex) {
-      // constant LOD per quad, outside the loops: the derivatives are per quad, so the LOD is
-      // computed at a quad's first lane and copied to the other three
-      for (int i = 0; i < lane_width<F>; ++i)
-        depth.lod[i] = (i > 0 && ((in.lane0 + i) & 3) != 0)
-                           ? depth.lod[i - 1]
-                           : compute_lod(*dtex, {lane(in.duv_dx.x, i), lane(in.duv_dx.y, i)},
-                                         {lane(in.duv_dy.x, i), lane(in.duv_dy.y, i)});
-      hit = Search::search(ctx, in, depth, V, ds, active);
-    }
+    if (dtex) hit = Search::search(ctx, in, depth, V, ds, active);
     o.hit_uv = hit.uv;
     o.hit_depth = hit.depth;
     o.steps = hit.steps;

@@ -1,0 +1,121 @@
+// `relief_quadric`: relief mapping with correct silhouettes on per-vertex quadrics.
+// Oliveira and Policarpo, "An Efficient Representation for Surface Details", UFRGS RP-351, 2005,
+// sections 3 to 3.5. The view ray runs in texture space against the height field deformed onto
+// the fragment's interpolated quadric (equations 8 and 9, shaders_cpp/quadric.h): linear then
+// binary search over [0, t_max]; `distance=approximate` measures the ray's depth below the quadric
+// vertically (equation 7, the paper's default), `accurate` along U (equation 6, equation 7 where
+// its discriminant is negative). Rays that come back to depth 0 without a hit are silhouette and
+// are discarded, whether or not the material asks for the silhouette effect. Depth correction
+// writes the hit's depth; shadows come from shadow maps (section 3.5: the deformed field has no
+// texture-space entry point for a shadow ray), so there is no self_shadow effect.
+// Shares with the relief shell (plugins/relief_shell.h) the tangent frame, the per-quad depth
+// LOD, the normal and colour maps and the lights.
+#include "plugins/builtin.h"
+#include "plugins/relief_shell.h"
+#include "shaders_cpp/quadric.h"
+
+namespace relief {
+namespace {
+
+enum Param { kSteps, kBinarySteps, kMinSteps, kDepthScaleParam, kDistanceParam };
+const ParamSpec kParams[] = {
+    {"steps", ParamType::kInt, 32.0f, 1.0f, 256.0f, nullptr,
+     "linear search steps over [0, t_max] at grazing angles"},
+    {"binary_steps", ParamType::kInt, 8.0f, 0.0f, 32.0f, nullptr,
+     "binary search halvings after the linear search"},
+    {"min_steps", ParamType::kInt, 8.0f, 1.0f, 256.0f, nullptr,
+     "linear steps facing the surface (mixed with steps by |V.z|)"},
+    kDepthScaleSpec,
+    {"distance", ParamType::kEnum, 0.0f, 0.0f, 1.0f, "approximate|accurate",
+     "ray-quadric distance: approximate (equation 7) or accurate (equation 6)"},
+};
+
+template <EffectMask kEffects>
+struct QuadricKernel {
+  static constexpr bool kDepth = (kEffects & (kEffectDepthWrite | kEffectShadowPass)) != 0;
+  static constexpr bool kShadowPass = (kEffects & kEffectShadowPass) != 0;
+  static constexpr bool kReceive = (kEffects & kEffectReceiveShadow) != 0;
+
+  template <class F>
+  static ShadeOut<F> shade(const ShadeContext& ctx, const FragIn<F>& in) {
+    if (ctx.material->params[kDistanceParam] >= 0.5f)
+      return shade_with<QuadricDistance::kAccurate>(ctx, in);
+    return shade_with<QuadricDistance::kApproximate>(ctx, in);
+  }
+
+  template <QuadricDistance kD, class F>
+  static ShadeOut<F> shade_with(const ShadeContext& ctx, const FragIn<F>& in) {
+    const MaterialUniforms& m = *ctx.material;
+    ShadeOut<F> o;
+    const TangentFrame<F> tf = fragment_frame(in);
+    const V3<F> w = world_view_dir(in.position, ctx.frame->eye, ctx.frame->orthographic,
+                                   ctx.frame->view_dir, -tf.n);
+    const V3<F> V = tf.to_tangent(w);
+    const F depth_scale(m.params[kDepthScaleParam]);
+    const mask_t<F> active = covered_lanes(in);
+    const TextureDepth depth = material_depth(m, in);
+    // seen from the back the surface curves the other way
+    const V2<F> q = in.front_facing ? in.quadric : V2<F>(-in.quadric.x, -in.quadric.y);
+    // relief depth in world units: depth_scale uv units (as in the relief shell)
+    const F sz = depth_scale * (in.tile_scale.x + in.tile_scale.y) * F(0.5f);
+    F t(0.0f), world_per_t(0.0f);
+    V2<F> hit_uv = in.uv;
+    if (depth.texture) {
+      const QuadricRay<F> ray = make_quadric_ray<kD>(V, q, in.tile_scale, sz);
+      const float* p = m.params;
+      const F n = relief_step_count(V.z, p[kMinSteps], p[kSteps]);
+      const QuadricHit<F> h =
+          quadric_search<kD>(depth, in.uv, ray, n, static_cast<int>(p[kBinarySteps]), active);
+      hit_uv = h.hit.uv;
+      t = h.t;
+      world_per_t = ray.world_per_t;
+      o.hit_depth = h.hit.depth;
+      o.steps = h.hit.steps;
+      o.fetches = h.hit.fetches;
+      o.discard = h.miss;
+    }
+    o.hit_uv = hit_uv;
+    const V3<F> pos = in.position + w * (t * world_per_t);
+    if constexpr (kDepth)
+      o.depth = vmin(reversed_z_depth(ctx.frame->view_proj, pos, in.frag_z), in.frag_z);
+    if constexpr (kShadowPass) {
+      return o;
+    } else {
+      const V3<F> nrm = sample_normal_map(m, kNormalSlot, tf, hit_uv, in, F(1.0f), o.fetches);
+      const V3<F> albedo = sample_albedo(m, kBaseColorSlot, hit_uv, in, o.fetches);
+      o.color = shade_lights<kReceive>(ctx, pos, nrm, nrm, -w, albedo, o.fetches);
+      o.alpha = F(m.base_color.a);
+      o.shading_normal = nrm;
+      return o;
+    }
+  }
+};
+
+ShadeFn select_quadric(EffectMask e) {
+  constexpr EffectMask kD = kEffectDepthWrite, kR = kEffectReceiveShadow;
+  if (e & kEffectShadowPass) return &shade_packet<QuadricKernel<kEffectShadowPass>>;
+  if (e & kD)
+    return (e & kR) ? &shade_packet<QuadricKernel<kD | kR>> : &shade_packet<QuadricKernel<kD>>;
+  return (e & kR) ? &shade_packet<QuadricKernel<kR>> : &shade_packet<QuadricKernel<0>>;
+}
+
+}  // namespace
+
+extern const PluginDescriptor kReliefQuadricPlugin;
+const PluginDescriptor kReliefQuadricPlugin = {
+    kPluginAbiVersion,
+    "relief_quadric",
+    "relief mapping on per-vertex quadrics: curved silhouettes by discard, accurate or "
+    "approximate distance, depth correction (Oliveira & Policarpo 2005)",
+    kParams,
+    std::size(kParams),
+    kReliefSlots,
+    std::size(kReliefSlots),
+    kEffectDepthWrite | kEffectShadowPass | kEffectReceiveShadow | kEffectSilhouette,
+    &select_quadric,
+    &relief_depth_output,
+    nullptr,
+    nullptr,
+};
+
+}  // namespace relief

@@ -1,0 +1,189 @@
+// Relief mapping with correct silhouettes: the view ray against a height field deformed onto the
+// per-vertex quadric z = a x^2 + b y^2, in texture space. Oliveira and Policarpo, "An Efficient
+// Representation for Surface Details", UFRGS RP-351, 2005 (the quadric-silhouettes paper):
+// section 3.1 (equation 6, the ray-quadric distance along U), 3.2 (equation 7, the vertical
+// distance), 3.3 (the search range [0, t_max]; rays that come back to depth 0 are silhouette),
+// 3.4 (equations 8 and 9: the quadric and the ray in texture space).
+//
+// Conventions. Tangent space as in shaders_cpp/ray.h (V unit, V.z < 0 into the surface). Texture
+// space: x along T in uv units, y along B in uv units, z = depth in depth-map units (positive into
+// the surface), so object = (x sx, y sy, z sz) with sx, sy the tile scale (world units per uv) and
+// sz the relief's full depth in world units. The quadric is in the same depth convention (z along
+// -N, a, b > 0 on a convex surface; scene/mesh_prep.h) and becomes z = alpha x^2 + beta y^2 with
+// alpha = a sx^2 / sz, beta = b sy^2 / sz (equation 8). The ray is P(t) = dir t, dir = Vt / |Vt|,
+// Vt = (V.x / sx, V.y / sy, -V.z / sz) (equation 9), -V.z clamped to at least kMinRayCos so every
+// quantity stays finite. A ray point is `inside` the relief when its distance D(t) below the
+// quadric is at least the depth map's value there.
+#pragma once
+
+#include "shaders_cpp/ray.h"
+#include "shaders_cpp/search.h"
+
+namespace relief {
+
+enum class QuadricDistance { kApproximate, kAccurate };
+
+template <class F>
+struct QuadricRay {
+  V3<F> dir;         // unit, texture space, dir.z > 0
+  V3<F> up;          // U: unit, perpendicular to dir, in the plane of dir and the normal, U.z <= 0
+  F alpha, beta;     // equation 8
+  F t_max;           // section 3.3
+  mask_t<F> bottom;  // t_max is where the ray reaches depth 1 (else where it returns to 0)
+  F world_per_t;     // world distance along the view ray per unit of t
+};
+
+namespace detail {
+// The smallest root in (0, inf) of q2 t^2 + q1 t + q0 = 0, or `none` (numerically stable form).
+template <class F>
+inline F smallest_positive_root(F q2, F q1, F q0, F none) {
+  const F disc = q1 * q1 - F(4.0f) * q2 * q0;
+  const mask_t<F> real = disc >= F(0.0f);
+  const F sq = vsqrt(vmax(disc, F(0.0f)));
+  // q = -(q1 + sign(q1) sqrt(disc)) / 2; roots q / q2 and q0 / q
+  const F q = (q1 + select(q1 < F(0.0f), -sq, sq)) * F(-0.5f);
+  const mask_t<F> qok = vabs(q) > F(1e-30f), q2ok = vabs(q2) > F(1e-30f);
+  const F r1 = select(qok & q2ok, q / select(q2ok, q2, F(1.0f)), none);
+  const F r2 = select(qok, q0 / select(qok, q, F(1.0f)), none);
+  F best = none;
+  best = select(real & (r1 > F(0.0f)) & (r1 < best), r1, best);
+  best = select(real & (r2 > F(0.0f)) & (r2 < best), r2, best);
+  return best;
+}
+}  // namespace detail
+
+// The ray-quadric distance at t by equation 7: D = P.z - (alpha P.x^2 + beta P.y^2).
+template <class F>
+inline F quadric_distance_vertical(const QuadricRay<F>& r, F t) {
+  const F px = r.dir.x * t, py = r.dir.y * t;
+  return r.dir.z * t - (r.alpha * px * px + r.beta * py * py);
+}
+
+// The ray-quadric distance at t by equation 6: s with P + U s on the quadric, taken as
+// -2C / (B + sqrt(B^2 - 4AC)) (the same root, finite as A -> 0); equation 7 where the
+// discriminant is negative, or where B + sqrt(...) <= 1e-6 (no finite root along U: a plane seen
+// along its normal). Signed: negative above the quadric.
+template <class F>
+inline F quadric_distance_accurate(const QuadricRay<F>& r, F t) {
+  const V3<F> p = r.dir * t;
+  const V3<F>& u = r.up;
+  const F A = r.alpha * u.x * u.x + r.beta * u.y * u.y;
+  const F B = F(2.0f) * (r.alpha * p.x * u.x + r.beta * p.y * u.y) - u.z;
+  const F C = r.alpha * p.x * p.x + r.beta * p.y * p.y - p.z;
+  const F disc = B * B - F(4.0f) * A * C;
+  const F den = B + vsqrt(vmax(disc, F(0.0f)));
+  const mask_t<F> ok = (disc >= F(0.0f)) & (den > F(1e-6f));
+  const F s = F(-2.0f) * C / select(ok, den, F(1.0f));
+  return select(ok, s, quadric_distance_vertical(r, t));
+}
+
+template <QuadricDistance kD, class F>
+inline F quadric_distance(const QuadricRay<F>& r, F t) {
+  if constexpr (kD == QuadricDistance::kAccurate)
+    return quadric_distance_accurate(r, t);
+  else
+    return quadric_distance_vertical(r, t);
+}
+
+// The texture-space ray of a fragment: V its tangent-space view direction (unit, V.z < 0 into the
+// surface), q = (a, b) its quadric and tile = (sx, sy) its tile size in world units, sz the
+// relief depth in world units (all > 0; tiny values are clamped to 1e-12).
+template <QuadricDistance kD, class F>
+inline QuadricRay<F> make_quadric_ray(V3<F> V, V2<F> q, V2<F> tile, F sz) {
+  QuadricRay<F> r;
+  const F tiny(1e-12f);
+  const F sx = vmax(tile.x, tiny), sy = vmax(tile.y, tiny), s_z = vmax(sz, tiny);
+  const V3<F> vt(V.x / sx, V.y / sy, vmax(-V.z, F(kMinRayCos)) / s_z);
+  const F len = length(vt);
+  r.dir = vt * (F(1.0f) / len);
+  r.world_per_t = F(1.0f) / len;
+  r.alpha = q.x * sx * sx / s_z;
+  r.beta = q.y * sy * sy / s_z;
+  // U = the up direction (0, 0, -1) minus its dir part, normalised; any horizontal unit vector
+  // when dir is vertical
+  const V3<F> up0(F(0.0f), F(0.0f), F(-1.0f));
+  r.up = normalize_or(up0 - r.dir * dot(up0, r.dir), V3<F>(F(1.0f), F(0.0f), F(0.0f)));
+  // section 3.3: the smallest t > 0 with D = 1 (bottom) or D = 0 (return to the surface)
+  const V3<F>& d = r.dir;
+  const F k = r.alpha * d.x * d.x + r.beta * d.y * d.y;
+  const F none(3.0e38f);
+  const F t_return = select(k > F(1e-30f), d.z / vmax(k, F(1e-30f)), none);
+  F t_bottom;
+  if constexpr (kD == QuadricDistance::kAccurate) {
+    // s = 1 in equation 5: k t^2 + (2 (alpha dx Ux + beta dy Uy) - dz) t + (A - Uz) = 0
+    const V3<F>& u = r.up;
+    const F A = r.alpha * u.x * u.x + r.beta * u.y * u.y;
+    const F m = F(2.0f) * (r.alpha * d.x * u.x + r.beta * d.y * u.y) - d.z;
+    t_bottom = detail::smallest_positive_root(k, m, A - u.z, none);
+  } else {
+    // D = 1 in equation 7: k t^2 - dz t + 1 = 0
+    t_bottom = detail::smallest_positive_root(k, -d.z, F(1.0f), none);
+  }
+  r.bottom = t_bottom <= t_return;
+  r.t_max = vmin(t_bottom, t_return);
+  // no root at all (cannot happen with dz > 0, guarded anyway): the planar range
+  r.bottom = r.bottom | (r.t_max >= none);
+  r.t_max = select(r.t_max >= none, F(1.0f) / d.z, r.t_max);
+  return r;
+}
+
+// The result of a search along a quadric ray: the hit (uv, distance below the quadric in depth
+// units, steps, fetches), its ray parameter t, and the lanes whose ray left the relief without
+// a hit (silhouette: discard).
+template <class F>
+struct QuadricHit {
+  SearchHit<F> hit;
+  F t;
+  mask_t<F> miss;
+};
+
+// Linear search over t_i = t_max i / n, i = 0..n (n >= 1 per lane), stopping at the first inside
+// sample (depth map <= D(t)); at t_max a bottom ray is inside whatever it reads, a returning ray
+// only if the map reads <= 0 there. Then m binary halvings of the last bracket. Lanes outside
+// `active` do nothing and return t = 0 at uv.
+template <QuadricDistance kD, class F, class Depth>
+inline QuadricHit<F> quadric_search(const Depth& depth, V2<F> uv, const QuadricRay<F>& r, F n,
+                                    int m, mask_t<F> active) {
+  const F dt = r.t_max / n;
+  const V2<F> duv(r.dir.x, r.dir.y);
+  F t_out(0.0f), t_in(0.0f);
+  F steps(0.0f), fetches(0.0f);
+  mask_t<F> searching = active, found = false_mask<F>();
+  for (int i = 0; any(searching); ++i) {
+    const F fi = F(static_cast<float>(i));
+    const mask_t<F> last = fi >= n;
+    const F t = select(last, r.t_max, fi * dt);
+    const F h = sample_depth(depth, uv + duv * t, searching);
+    const F D = quadric_distance<kD>(r, t);
+    const mask_t<F> in = (h <= D) | (last & r.bottom);
+    const mask_t<F> hit = searching & in;
+    steps += detail::count<F>(searching);
+    fetches += detail::count<F>(searching);
+    t_in = select(hit, t, t_in);
+    t_out = select(searching & !in, t, t_out);
+    found = found | hit;
+    searching = searching & !in & !last;
+  }
+  // binary search between the last outside and the first inside sample
+  F lo = t_out, hi = t_in;
+  mask_t<F> refine = found & (hi > lo);
+  for (int i = 0; i < m && any(refine); ++i) {
+    const F mid = (lo + hi) * F(0.5f);
+    const F h = sample_depth(depth, uv + duv * mid, refine);
+    const mask_t<F> in = h <= quadric_distance<kD>(r, mid);
+    hi = select(refine & in, mid, hi);
+    lo = select(refine & !in, mid, lo);
+    steps += detail::count<F>(refine);
+    fetches += detail::count<F>(refine);
+  }
+  QuadricHit<F> out;
+  out.t = select(found, hi, F(0.0f));
+  out.miss = active & !found;
+  out.hit.uv = uv + duv * out.t;
+  out.hit.depth = clamp(quadric_distance<kD>(r, out.t), F(0.0f), F(1.0f));
+  out.hit.steps = steps;
+  out.hit.fetches = fetches;
+  return out;
+}
+
+}  // namespace relief

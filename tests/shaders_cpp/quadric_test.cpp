@@ -1,0 +1,193 @@
+// Tests for shaders_cpp/quadric.h (Oliveira and Policarpo 2005, sections 3.1 to 3.4): equation 6
+// against a numerical root of equation 5, the growth of equation 7's error toward the normal
+// (figure 10), t_max, and hard cases (grazing, along the normal, planes, saddles, huge
+// curvature) in both lane types.
+#include "shaders_cpp/quadric.h"
+
+#include <cmath>
+#include <random>
+
+#include <gtest/gtest.h>
+
+namespace relief {
+namespace {
+
+constexpr float kPi = 3.14159265358979f;
+
+// Tangent-space view direction at `deg` degrees from the normal, azimuth `az` (V.z < 0).
+V3<float> view_at(float deg, float az) {
+  const float th = deg * kPi / 180.0f;
+  return {std::sin(th) * std::cos(az), std::sin(th) * std::sin(az), -std::cos(th)};
+}
+
+// The root s of equation 5 nearest 0 in the direction that equation 6 takes (first sign change
+// of f(s) from s = 0 towards +s when P is inside, -s when above), in double; NaN when none lies
+// within |s| < 50.
+double reference_distance(const QuadricRay<float>& r, double t) {
+  const double px = r.dir.x * t, py = r.dir.y * t, pz = r.dir.z * t;
+  auto f = [&](double s) {
+    const double x = px + r.up.x * s, y = py + r.up.y * s, z = pz + r.up.z * s;
+    return r.alpha * x * x + r.beta * y * y - z;
+  };
+  const double f0 = f(0.0);
+  if (f0 == 0.0) return 0.0;
+  const double dir = f0 < 0.0 ? 1.0 : -1.0;
+  const double h = 1e-4;
+  for (double s = 0.0; std::fabs(s) < 50.0; s += dir * h) {
+    if ((f(s + dir * h) < 0.0) != (f0 < 0.0)) {
+      double lo = s, hi = s + dir * h;
+      for (int i = 0; i < 60; ++i) {
+        const double mid = 0.5 * (lo + hi);
+        ((f(mid) < 0.0) == (f0 < 0.0) ? lo : hi) = mid;
+      }
+      return 0.5 * (lo + hi);
+    }
+  }
+  return NAN;
+}
+
+TEST(Quadric, AccurateDistanceMatchesNumericalRoot) {
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<float> ab(-2.0f, 2.0f), ang(5.0f, 85.0f), az(0.0f, 2.0f * kPi),
+      frac(0.0f, 1.0f);
+  int compared = 0;
+  for (int i = 0; i < 2000; ++i) {
+    const V3<float> V = view_at(ang(rng), az(rng));
+    const QuadricRay<float> r = make_quadric_ray<QuadricDistance::kAccurate>(
+        V, V2<float>(ab(rng), ab(rng)), V2<float>(1.0f, 1.0f), 1.0f);
+    const float t = frac(rng) * r.t_max;
+    const V3<float>& u = r.up;
+    const float A = r.alpha * u.x * u.x + r.beta * u.y * u.y;
+    const float px = r.dir.x * t, py = r.dir.y * t, pz = r.dir.z * t;
+    const float B = 2.0f * (r.alpha * px * u.x + r.beta * py * u.y) - u.z;
+    const float C = r.alpha * px * px + r.beta * py * py - pz;
+    if (B * B - 4.0f * A * C < 1e-3f) continue;  // equation 7's domain, or a double root
+    const double ref = reference_distance(r, t);
+    if (!std::isfinite(ref) || std::fabs(ref) > 2.0) continue;
+    EXPECT_NEAR(quadric_distance_accurate(r, t), ref, 1e-4) << i;
+    ++compared;
+  }
+  EXPECT_GT(compared, 1000);
+}
+
+// |eq 7 - eq 6| where the ray is 0.2 depth units below the tangent plane (P.z = 0.2), on a
+// gently curved convex quadric, `deg` from the normal.
+float approximation_error(float deg) {
+  const QuadricRay<float> r = make_quadric_ray<QuadricDistance::kAccurate>(
+      view_at(deg, 0.3f), V2<float>(0.05f, 0.05f), V2<float>(1.0f, 1.0f), 1.0f);
+  const float t = 0.2f / r.dir.z;
+  EXPECT_LE(t, r.t_max) << deg;
+  return std::fabs(quadric_distance_vertical(r, t) - quadric_distance_accurate(r, t));
+}
+
+TEST(Quadric, ApproximateErrorGrowsTowardTheNormal) {
+  float prev = 0.0f;
+  for (float deg : {80.0f, 60.0f, 45.0f, 30.0f, 15.0f}) {
+    const float e = approximation_error(deg);
+    printf("approximation error at %.0f deg from the normal: %.4f\n", deg, e);
+    EXPECT_GT(e, prev) << deg;
+    prev = e;
+  }
+  EXPECT_GT(prev, 10.0f * approximation_error(80.0f));
+}
+
+TEST(Quadric, TmaxIsWhereTheRayReachesDepthOneOrReturns) {
+  for (float deg : {10.0f, 50.0f, 85.0f})
+    for (V2<float> q : {V2<float>(0.5f, 0.5f), V2<float>(0.0f, 0.0f), V2<float>(-1.0f, 2.0f)}) {
+      const auto r =
+          make_quadric_ray<QuadricDistance::kApproximate>(view_at(deg, 1.0f), q, {1, 1}, 1.0f);
+      const float D = quadric_distance_vertical(r, r.t_max);
+      EXPECT_NEAR(D, r.bottom ? 1.0f : 0.0f, 1e-4f) << deg;
+      for (int i = 1; i < 100; ++i) {  // inside (0, 1) before t_max
+        const float d = quadric_distance_vertical(r, r.t_max * i / 100.0f);
+        EXPECT_GT(d, 0.0f);
+        EXPECT_LT(d, 1.0f);
+      }
+    }
+}
+
+// A depth source: rolling hills in [0.2, 1].
+struct Hills {
+  float operator()(int, float u, float v) const {
+    return 0.6f + 0.4f * std::sin(7.0f * u) * std::cos(5.0f * v);
+  }
+};
+
+template <QuadricDistance kD, class F>
+QuadricHit<F> search_lanes(const std::vector<V3<float>>& views, const std::vector<V2<float>>& qs,
+                           QuadricRay<F>* ray_out, size_t first) {
+  V3<F> V;
+  V2<F> q;
+  for (int i = 0; i < lane_width<F>; ++i) {
+    const size_t k = (first + i) % views.size();
+    set_lane(V.x, i, views[k].x);
+    set_lane(V.y, i, views[k].y);
+    set_lane(V.z, i, views[k].z);
+    set_lane(q.x, i, qs[k].x);
+    set_lane(q.y, i, qs[k].y);
+  }
+  const QuadricRay<F> r = make_quadric_ray<kD>(V, q, V2<F>(F(0.5f), F(0.8f)), F(0.1f));
+  *ray_out = r;
+  return quadric_search<kD>(Hills(), V2<F>(F(0.3f), F(0.7f)), r, F(16.0f), 8, true_mask<F>());
+}
+
+template <QuadricDistance kD>
+void hard_cases() {
+  std::vector<V3<float>> views = {view_at(0.0f, 0.0f),  {0.0f, 0.0f, -1.0f},  view_at(89.9f, 0.4f),
+                                  view_at(89.9f, 2.0f), view_at(45.0f, 1.0f), view_at(89.99f, 0.0f),
+                                  {1.0f, 0.0f, 0.0f},   {0.0f, 0.0f, 1.0f}};
+  std::vector<V2<float>> qs = {{0.0f, 0.0f},   {2.0f, -2.0f},  {1e6f, 1e6f}, {-1e6f, 3.0f},
+                               {1e-30f, 0.0f}, {-5.0f, -5.0f}, {0.5f, 0.5f}, {1e6f, -1e6f}};
+  for (size_t first = 0; first < views.size(); ++first) {
+    for (size_t qi = 0; qi < qs.size(); ++qi) {
+      std::vector<V2<float>> q1(views.size(), qs[qi]);
+      QuadricRay<float> rs;
+      QuadricRay<F8> r8;
+      const QuadricHit<float> hs = search_lanes<kD, float>(views, q1, &rs, first);
+      const QuadricHit<F8> h8 = search_lanes<kD, F8>(views, q1, &r8, first);
+      ASSERT_TRUE(std::isfinite(rs.t_max) && rs.t_max > 0.0f) << first << " " << qi;
+      ASSERT_TRUE(std::isfinite(hs.t) && hs.t >= 0.0f && hs.t <= rs.t_max) << first << " " << qi;
+      ASSERT_TRUE(std::isfinite(hs.hit.uv.x) && std::isfinite(hs.hit.uv.y));
+      ASSERT_TRUE(std::isfinite(hs.hit.depth) && hs.hit.depth >= 0.0f && hs.hit.depth <= 1.0f);
+      // the 8-lane kernel gives the scalar one's bits on its first lane
+      EXPECT_EQ(lane(h8.t, 0), hs.t);
+      EXPECT_EQ(lane(h8.miss, 0), hs.miss);
+      EXPECT_EQ(lane(h8.hit.depth, 0), hs.hit.depth);
+      EXPECT_EQ(lane(r8.t_max, 0), rs.t_max);
+      for (int i = 0; i < 1000; ++i) {
+        const float t = rs.t_max * i / 999.0f;
+        ASSERT_TRUE(std::isfinite(quadric_distance<kD>(rs, t))) << first << " " << qi;
+      }
+    }
+  }
+}
+
+TEST(Quadric, HardCasesStayFiniteApproximate) {
+  hard_cases<QuadricDistance::kApproximate>();
+}
+TEST(Quadric, HardCasesStayFiniteAccurate) {
+  hard_cases<QuadricDistance::kAccurate>();
+}
+
+TEST(Quadric, ConvexGrazingRaysReturnAndAreDiscarded) {
+  // a sphere-like quadric seen at 89 degrees: the ray leaves the relief before depth 1
+  const auto r = make_quadric_ray<QuadricDistance::kApproximate>(
+      view_at(89.0f, 0.0f), V2<float>(2.0f, 2.0f), V2<float>(1.0f, 1.0f), 0.05f);
+  EXPECT_FALSE(r.bottom);
+  struct Deep {
+    float operator()(int, float, float) const { return 0.9f; }
+  };
+  const QuadricHit<float> h = quadric_search<QuadricDistance::kApproximate>(
+      Deep(), V2<float>(0.0f, 0.0f), r, 32.0f, 8, true);
+  EXPECT_TRUE(h.miss);
+  // a plane (a = b = 0) at the same angle always reaches the bottom: a hit
+  const auto p = make_quadric_ray<QuadricDistance::kApproximate>(
+      view_at(89.0f, 0.0f), V2<float>(0.0f, 0.0f), V2<float>(1.0f, 1.0f), 0.05f);
+  EXPECT_TRUE(p.bottom);
+  EXPECT_FALSE((quadric_search<QuadricDistance::kApproximate>(Deep(), V2<float>(0.0f, 0.0f), p,
+                                                              32.0f, 8, true)
+                    .miss));
+}
+
+}  // namespace
+}  // namespace relief
