@@ -16,6 +16,7 @@ void register_builtin_plugins(PluginRegistry& r) {
            &kConePlugin,
            &kConeQuadPlugin,
            &kRelaxedConePlugin,
+           &kReliefQuadricPlugin,
        }) {
     CHECK(r.add(p).ok());
   }

@@ -15,5 +15,6 @@ extern const PluginDescriptor kExactPlugin;
 extern const PluginDescriptor kConePlugin;
 extern const PluginDescriptor kConeQuadPlugin;
 extern const PluginDescriptor kRelaxedConePlugin;
+extern const PluginDescriptor kReliefQuadricPlugin;
 
 }  // namespace relief
