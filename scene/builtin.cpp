@@ -9,6 +9,8 @@
 
 #include "bake/normal_map.h"
 #include "rasterizer/check.h"
+#include "scene/builtin_bending.h"
+#include "scene/builtin_curved.h"
 #include "scene/builtin_room.h"
 #include "scene/mesh_prep.h"
 
@@ -223,6 +225,11 @@ const std::vector<BuiltinSceneInfo>& builtin_scenes() {
       {"pattern",
        "the same quad with smooth and sharp features and one-texel walls (4 x 4 tiles "
        "of 256 x 256), where searches that step over thin structures show"},
+      {"sphere", "relief bumps on a uv sphere, relief_quadric (curved silhouette)"},
+      {"cylinder", "relief bumps on an open cylinder, relief_quadric (curved silhouette)"},
+      {"torus", "relief bumps on a torus seen from above: its inner half is a saddle region"},
+      {"teapot", "relief bumps on the Utah teapot (32 Bezier patches), relief_quadric"},
+      {"bending", "a relief-mapped cylinder bent by two joints (skinned, animated: --frames 0-47)"},
   };
   return scenes;
 }
@@ -235,6 +242,9 @@ Result<Scene> make_builtin_scene(const std::string& name) {
   if (name == "plane") return make_plane();
   if (name == "room") return make_room_scene();
   if (name == "pattern") return make_pattern();
+  if (name == "bending") return make_bending_scene();
+  if (name == "sphere" || name == "cylinder" || name == "torus" || name == "teapot")
+    return make_curved_scene(name);
   std::string known;
   for (const auto& s : builtin_scenes()) known += (known.empty() ? "" : ", ") + s.name;
   return Status::error("unknown scene '" + name + "' (built-in scenes: " + known + ")");
