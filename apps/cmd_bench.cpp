@@ -39,6 +39,7 @@ struct BenchArgs {
   std::string camera;
   std::vector<std::string> plugins;
   bool no_progress = false;
+  bool no_self_shadow = false;
   CLI::App* sub = nullptr;
 };
 
@@ -181,6 +182,7 @@ int do_bench(BenchArgs& a) {
   opt.threads = a.threads;
   opt.repeats = a.repeats;
   opt.warmup = a.warmup;
+  opt.self_shadow = !a.no_self_shadow;
   Result<std::vector<double>> angles = parse_numbers("--angles", a.angles, 0.0, 89.9);
   if (!angles.ok()) return fail(angles.status().message(), 2);
   opt.angles = *angles;
@@ -196,7 +198,8 @@ int do_bench(BenchArgs& a) {
   opt.gl = std::find(backends.begin(), backends.end(), "gl") != backends.end();
   // accuracy is always measured on the CPU backend; `gl` alone still needs its rows
   opt.cpu = true;
-  if (a.target_error != -1.0 && !(a.target_error > 0.0 && std::isfinite(a.target_error)))
+  const bool target = a.sub->count("--target-error") > 0;
+  if (target && !(a.target_error > 0.0 && std::isfinite(a.target_error)))
     return fail("--target-error: expected a positive number of texels", 2);
   for (const auto& [flag, path] : {std::pair{"--csv", a.csv}, std::pair{"--json", a.json}}) {
     s = check_output(flag, path);
@@ -224,7 +227,7 @@ int do_bench(BenchArgs& a) {
     for (sweep::Setting& st : sweep::settings_for(*PluginRegistry::global().find(t), step_counts))
       settings.push_back(std::move(st));
   }
-  if (a.target_error > 0.0) return do_target(a, opt, settings);
+  if (target) return do_target(a, opt, settings);
 
   std::vector<sweep::Field> fields;
   Result<std::vector<sweep::Field>> builtins = sweep::builtin_fields();
@@ -314,6 +317,8 @@ void register_bench(CLI::App& app, Action& action) {
   sub->add_option("--camera", a->camera, "Camera of --scene (name or index)");
   sub->add_option("--plugin", a->plugins,
                   "Load an external plugin (.so); swept like the built-ins");
+  sub->add_flag("--no-self-shadow", a->no_self_shadow,
+                "No self-shadow rays (fetches are then the search's and the shading's)");
   sub->add_flag("--no-progress", a->no_progress, "No progress bar on stderr");
   sub->callback([&action, a] { action = [a] { return do_bench(*a); }; });
 }
