@@ -1,0 +1,185 @@
+// The intersection kernels alone (issue 8), isolated from rasterization and shading: each runs on
+// a fixed batch of 4096 texture-space rays over the `pattern` depth map (make_pattern_depth, 256 x
+// 256, level 0, bilinear, depth_scale 0.05), eight lanes at a time (F8), start uv uniform over the
+// tile, azimuth uniform, at the view angle given as the argument (degrees from the normal). Items
+// per second are rays; the counters are fetches and search steps per ray, exact counts.
+// Kernels: parallax (Kaneko 2001; Welsh 2004), steep parallax (McGuire and McGuire 2005), POM
+// (Tatarchuk 2006), relief linear + binary (Policarpo, Oliveira and Comba 2005), conservative cone
+// stepping (Dummer 2006), quad-directional and relaxed cone stepping (Policarpo and Oliveira 2007,
+// GPU Gems 3 ch. 18) and the exact max-mip reference (after Tevs, Ihrke and Seidel 2008). Full
+// frames with shading are bench_techniques.
+//
+//   build/bin/bench_kernels --benchmark_repetitions=5 --benchmark_report_aggregates_only=true
+#include <benchmark/benchmark.h>
+
+#include <cmath>
+#include <memory>
+#include <random>
+#include <vector>
+
+#include "render/derived_maps.h"
+#include "scene/builtin.h"
+#include "shaders_cpp/cone.h"
+#include "shaders_cpp/exact.h"
+#include "shaders_cpp/search.h"
+
+namespace relief {
+namespace {
+
+constexpr int kRays = 4096;
+constexpr float kDepthScale = 0.05f;
+
+struct Fixture {
+  Material material;  // depth (level 0) and its derived cone maps
+  TexturePtr depth, cone, cone_quad, cone_relaxed;
+  SamplerState sampler;  // bilinear, repeat
+  HeightField field;
+  std::vector<float> u, v, dsx, dsy;  // per ray
+
+  Fixture() {
+    Texture t = make_pattern_depth(256);
+    std::vector<float> d(256 * 256);
+    for (int y = 0; y < 256; ++y)
+      for (int x = 0; x < 256; ++x) d[y * 256 + x] = t.fetch_r(0, x, y);
+    depth = std::make_shared<Texture>(Texture::from_floats(TexFormat::kR8, 256, 256, d.data()));
+    sampler.filter = Filter::kBilinear;
+    material.name = "pattern";
+    material.textures["depth"] = depth;
+    material.sampler = sampler;
+    cone = derive_map(material, "cone_conservative")->texture;
+    cone_quad = derive_map(material, "cone_quad")->texture;
+    cone_relaxed = derive_map(material, "cone_relaxed")->texture;
+    field = HeightField::from_texture(*depth, sampler);
+  }
+
+  void aim(double angle_deg) {
+    std::mt19937 rng(12345);
+    std::uniform_real_distribution<float> uni(0.0f, 1.0f);
+    const float tan_a = static_cast<float>(std::tan(angle_deg * M_PI / 180.0));
+    u.resize(kRays);
+    v.resize(kRays);
+    dsx.resize(kRays);
+    dsy.resize(kRays);
+    for (int i = 0; i < kRays; ++i) {
+      const float az = 2.0f * static_cast<float>(M_PI) * uni(rng);
+      u[i] = uni(rng);
+      v[i] = uni(rng);
+      dsx[i] = std::cos(az) * tan_a * kDepthScale;
+      dsy[i] = std::sin(az) * tan_a * kDepthScale;
+    }
+  }
+};
+
+Fixture& fixture() {
+  static Fixture f;
+  return f;
+}
+
+// Runs `search(uv, ds, vz)` over the batch, eight rays at a time, and reports rays per second and
+// the kernel's fetches and steps per ray.
+template <class Search>
+void run(benchmark::State& state, Search&& search) {
+  Fixture& f = fixture();
+  const double angle = static_cast<double>(state.range(0));
+  f.aim(angle);
+  const F8 vz(static_cast<float>(-std::cos(angle * M_PI / 180.0)));
+  double fetches = 0.0, steps = 0.0, rays = 0.0;
+  for (auto _ : state) {
+    F8 sum_f(0.0f), sum_s(0.0f), sink(0.0f);
+    for (int i = 0; i < kRays; i += 8) {
+      const V2<F8> uv{F8::load(&f.u[i]), F8::load(&f.v[i])};
+      const V2<F8> ds{F8::load(&f.dsx[i]), F8::load(&f.dsy[i])};
+      const SearchHit<F8> h = search(uv, ds, vz);
+      sum_f = sum_f + h.fetches;
+      sum_s = sum_s + h.steps;
+      sink = sink + h.depth + h.uv.x;
+    }
+    benchmark::DoNotOptimize(sink);
+    for (int l = 0; l < 8; ++l) {
+      fetches += lane(sum_f, l);
+      steps += lane(sum_s, l);
+    }
+    rays += kRays;
+  }
+  state.SetItemsProcessed(static_cast<int64_t>(rays));
+  state.counters["fetches_per_ray"] = fetches / rays;
+  state.counters["steps_per_ray"] = steps / rays;
+}
+
+TextureDepth depth_source() {
+  TextureDepth d;
+  d.texture = fixture().depth.get();
+  d.sampler = &fixture().sampler;
+  return d;
+}
+TextureCone cone_source(const TexturePtr& t) {
+  TextureCone c;
+  c.texture = t.get();
+  c.sampler = cone_sampler(fixture().sampler);
+  return c;
+}
+const mask_t<F8> kAll = true_mask<F8>();
+
+void BM_Kernel_Parallax(benchmark::State& state) {
+  const TextureDepth d = depth_source();
+  run(state,
+      [&](V2<F8> uv, V2<F8> ds, F8 vz) { return parallax_offset(d, uv, ds, vz, true, kAll); });
+}
+void BM_Kernel_SteepParallax(benchmark::State& state) {
+  const TextureDepth d = depth_source();
+  run(state,
+      [&](V2<F8> uv, V2<F8> ds, F8) { return steep_parallax_search(d, uv, ds, F8(32.0f), kAll); });
+}
+void BM_Kernel_Pom(benchmark::State& state) {
+  const TextureDepth d = depth_source();
+  run(state, [&](V2<F8> uv, V2<F8> ds, F8) { return pom_search(d, uv, ds, F8(32.0f), kAll); });
+}
+void BM_Kernel_Relief(benchmark::State& state) {
+  const TextureDepth d = depth_source();
+  run(state,
+      [&](V2<F8> uv, V2<F8> ds, F8) { return relief_search(d, uv, ds, F8(32.0f), 8, kAll); });
+}
+void BM_Kernel_Cone(benchmark::State& state) {
+  const TextureDepth d = depth_source();
+  const TextureCone c = cone_source(fixture().cone);
+  run(state, [&](V2<F8> uv, V2<F8> ds, F8) { return cone_search(d, c, uv, ds, 15, kAll); });
+}
+void BM_Kernel_ConeQuad(benchmark::State& state) {
+  const TextureDepth d = depth_source();
+  QuadTextureCone c;
+  c.texture = fixture().cone_quad.get();
+  c.sampler = cone_sampler(fixture().sampler);
+  run(state, [&](V2<F8> uv, V2<F8> ds, F8) {
+    QuadTextureCone aimed = c;
+    aimed.aim(ds);
+    return cone_search(d, aimed, uv, ds, 15, kAll);
+  });
+}
+void BM_Kernel_RelaxedCone(benchmark::State& state) {
+  const TextureDepth d = depth_source();
+  NearestTextureDepth nd;
+  nd.texture = fixture().depth.get();
+  nd.sampler = cone_sampler(fixture().sampler);
+  const TextureCone c = cone_source(fixture().cone_relaxed);
+  run(state,
+      [&](V2<F8> uv, V2<F8> ds, F8) { return relaxed_cone_search(nd, d, c, uv, ds, 15, 6, kAll); });
+}
+void BM_Kernel_Exact(benchmark::State& state) {
+  const HeightField& field = fixture().field;
+  run(state, [&](V2<F8> uv, V2<F8> ds, F8) { return exact_search(field, uv, ds, kAll); });
+}
+
+#define RELIEF_KERNEL_BENCH(name) BENCHMARK(name)->Arg(45)->Arg(80)->Unit(benchmark::kMicrosecond)
+RELIEF_KERNEL_BENCH(BM_Kernel_Parallax);
+RELIEF_KERNEL_BENCH(BM_Kernel_SteepParallax);
+RELIEF_KERNEL_BENCH(BM_Kernel_Pom);
+RELIEF_KERNEL_BENCH(BM_Kernel_Relief);
+RELIEF_KERNEL_BENCH(BM_Kernel_Cone);
+RELIEF_KERNEL_BENCH(BM_Kernel_ConeQuad);
+RELIEF_KERNEL_BENCH(BM_Kernel_RelaxedCone);
+RELIEF_KERNEL_BENCH(BM_Kernel_Exact);
+
+}  // namespace
+}  // namespace relief
+
+BENCHMARK_MAIN();
