@@ -31,6 +31,7 @@
 
 #include "bake/normal_map.h"
 #include "plugins/registry.h"
+#include "scene/animation.h"
 #include "scene/image_io.h"
 #include "scene/mesh_prep.h"
 
@@ -171,6 +172,7 @@ class Reader {
       scene_.materials.push_back(d);
     }
     RELIEF_RETURN_IF_ERROR(place_cameras());
+    RELIEF_RETURN_IF_ERROR(read_animation());
     return std::move(scene_);
   }
 
@@ -795,6 +797,15 @@ class Reader {
         std::memcpy(&u, p, 2);
         return normalized ? u / 65535.0f : u;
       }
+      case kByte: {
+        const int8_t b = static_cast<int8_t>(p[0]);
+        return normalized ? std::max(b / 127.0f, -1.0f) : b;
+      }
+      case kShort: {
+        int16_t u;
+        std::memcpy(&u, p, 2);
+        return normalized ? std::max(u / 32767.0f, -1.0f) : u;
+      }
       default:
         return 0.0f;
     }
@@ -855,9 +866,12 @@ class Reader {
     return {};
   }
 
-  Result<int> primitive_mesh(int mesh, int prim, int material_index) {
+  // A primitive's mesh: shared by the nodes that use it, except on a node with a skin or morph
+  // targets (`deform_node` >= 0), which gets its own mesh and a Deformer.
+  Result<int> primitive_mesh(int mesh, int prim, int material_index, int deform_node = -1) {
     const PrimitiveKey key{mesh, prim};
-    if (auto it = meshes_.find(key); it != meshes_.end()) return it->second;
+    if (deform_node < 0)
+      if (auto it = meshes_.find(key); it != meshes_.end()) return it->second;
     const tinygltf::Primitive& p = m_.meshes[mesh].primitives[prim];
     const std::string pp =
         "/meshes/" + std::to_string(mesh) + "/primitives/" + std::to_string(prim);
@@ -870,7 +884,6 @@ class Reader {
                       (mode >= 0 && mode <= 6 ? names[mode] : std::to_string(mode).c_str()) +
                       " is not supported (only TRIANGLES)");
     }
-    if (!p.targets.empty()) return fail(pp + "/targets", "morph targets are not supported");
     Mesh out;
     out.name = m_.meshes[mesh].name.empty() ? "mesh" + std::to_string(mesh) : m_.meshes[mesh].name;
     if (m_.meshes[mesh].primitives.size() > 1) out.name += "/" + std::to_string(prim);
@@ -921,10 +934,113 @@ class Reader {
       out.tangents.clear();  // the frame follows the rotated uv
     }
     prepare_mesh(out);
-    scene_.meshes.push_back(std::move(out));
+    if (deform_node >= 0 && out.positions.size() != n)
+      return fail(pp + "/attributes",
+                  "a skinned or morphed mesh whose uv mirrors (tangent handedness split by "
+                  "mesh preparation) needs a TANGENT attribute");
+    scene_.meshes.push_back(out);
     const int id = static_cast<int>(scene_.meshes.size()) - 1;
-    meshes_[key] = id;
+    if (deform_node < 0) {
+      meshes_[key] = id;
+      return id;
+    }
+    Deformer d;
+    d.mesh = id;
+    d.node = deform_node;
+    d.skin = m_.nodes[deform_node].skin;
+    d.rest = std::move(out);
+    RELIEF_RETURN_IF_ERROR(read_deformation(p, pp, d));
+    deformers_.push_back(std::move(d));
     return id;
+  }
+
+  // Morph targets and skin attributes of a deformed primitive (glTF 3.7.2.2, 3.7.3).
+  Status read_deformation(const tinygltf::Primitive& p, const std::string& pp, Deformer& d) const {
+    const size_t n = d.rest.positions.size();
+    for (size_t t = 0; t < p.targets.size(); ++t) {
+      MorphTarget mt;
+      const std::string tp = pp + "/targets/" + std::to_string(t);
+      for (const auto& [name, index] : p.targets[t]) {
+        std::vector<glm::vec3>* dst = name == "POSITION"  ? &mt.positions
+                                      : name == "NORMAL"  ? &mt.normals
+                                      : name == "TANGENT" ? &mt.tangents
+                                                          : nullptr;
+        if (!dst)
+          return fail(tp + "/" + name,
+                      "morph target attribute not supported (POSITION, NORMAL, TANGENT)");
+        RELIEF_RETURN_IF_ERROR(read_attr<3>(index, tp + "/" + name, false, *dst));
+        if (dst->size() != n)
+          return fail(tp + "/" + name, "accessor " + std::to_string(index) + " has " +
+                                           std::to_string(dst->size()) +
+                                           " elements, POSITION has " + std::to_string(n));
+      }
+      d.targets.push_back(std::move(mt));
+    }
+    const std::string ap = pp + "/attributes";
+    for (const char* extra : {"JOINTS_1", "WEIGHTS_1"})
+      if (p.attributes.count(extra))
+        return fail(ap + "/" + extra, "at most four joint influences are supported (JOINTS_0)");
+    if (d.skin < 0) return {};
+    const auto j = p.attributes.find("JOINTS_0"), w = p.attributes.find("WEIGHTS_0");
+    if (j == p.attributes.end() || w == p.attributes.end())
+      return fail(ap, "a skinned mesh needs JOINTS_0 and WEIGHTS_0");
+    const size_t joint_count = m_.skins[d.skin].joints.size();
+    std::vector<float> joints;
+    RELIEF_RETURN_IF_ERROR(
+        read_floats(j->second, ap + "/JOINTS_0", TINYGLTF_TYPE_VEC4, {kUByte, kUShort}, joints));
+    std::vector<float> weights;
+    RELIEF_RETURN_IF_ERROR(read_floats(w->second, ap + "/WEIGHTS_0", TINYGLTF_TYPE_VEC4,
+                                       {kFloat, -kUByte, -kUShort}, weights));
+    if (joints.size() != 4 * n || weights.size() != 4 * n)
+      return fail(ap + (joints.size() != 4 * n ? "/JOINTS_0" : "/WEIGHTS_0"),
+                  "expected " + std::to_string(n) + " elements, as POSITION");
+    d.joints.resize(n);
+    d.weights.resize(n);
+    for (size_t v = 0; v < n; ++v)
+      for (int c = 0; c < 4; ++c) {
+        const float jf = joints[4 * v + c], wf = weights[4 * v + c];
+        if (wf < 0.0f)
+          return fail(ap + "/WEIGHTS_0", "element " + std::to_string(v) + " has a negative weight");
+        if (wf > 0.0f && jf >= joint_count)
+          return fail(ap + "/JOINTS_0", "element " + std::to_string(v) + " names joint " +
+                                            std::to_string(static_cast<long>(jf)) +
+                                            " (the skin has " + std::to_string(joint_count) + ")");
+        d.joints[v][c] = static_cast<uint16_t>(wf > 0.0f ? jf : 0.0f);
+        d.weights[v][c] = wf;
+      }
+    return {};
+  }
+
+  // Reads every component of an accessor of `type` as float. `ctypes` lists the accepted
+  // component types: positive as stored (integers as their value), negative normalised.
+  Status read_floats(int index, const std::string& where, int type, std::vector<int> ctypes,
+                     std::vector<float>& out) const {
+    Result<View> v = view(index, where);
+    if (!v.ok()) return v.status();
+    const bool ok_ctype =
+        std::find(ctypes.begin(), ctypes.end(), v->normalized ? -v->ctype : v->ctype) !=
+            ctypes.end() ||
+        (v->ctype == kFloat && std::find(ctypes.begin(), ctypes.end(), kFloat) != ctypes.end());
+    if (m_.accessors[index].type != type || !ok_ctype) {
+      std::string list;
+      for (int c : ctypes)
+        list += (list.empty() ? "" : ", ") + std::string(c < 0 ? "normalized " : "") +
+                component_name(std::abs(c));
+      return fail(where, "accessor " + std::to_string(index) + " is " +
+                             type_name(m_.accessors[index].type) + " of " +
+                             component_name(v->ctype) + (v->normalized ? " (normalized)" : "") +
+                             ", expected " + type_name(type) + " of " + list);
+    }
+    const int csize = tinygltf::GetComponentSizeInBytes(static_cast<uint32_t>(v->ctype));
+    out.resize(v->count * v->comps);
+    for (size_t i = 0; i < v->count; ++i)
+      for (int c = 0; c < v->comps; ++c) {
+        const float f = component(v->data + i * v->stride + c * csize, v->ctype, v->normalized);
+        if (!std::isfinite(f))
+          return fail(where, "element " + std::to_string(i) + " is not finite");
+        out[i * v->comps + c] = f;
+      }
+    return {};
   }
 
   // ---- nodes ----
@@ -966,8 +1082,10 @@ class Reader {
       return fail("/scene", "scene " + std::to_string(si) + " does not exist");
     std::vector<bool> seen(m_.nodes.size(), false);
     int order = 0;
-    std::function<Status(int, const glm::dmat4&, const std::string&)> visit =
-        [&](int index, const glm::dmat4& parent, const std::string& ref) -> Status {
+    node_parent_.assign(m_.nodes.size(), -1);
+    std::function<Status(int, const glm::dmat4&, const std::string&, int)> visit =
+        [&](int index, const glm::dmat4& parent, const std::string& ref,
+            int parent_index) -> Status {
       if (index < 0 || index >= static_cast<int>(m_.nodes.size()))
         return fail(ref, "node " + std::to_string(index) + " does not exist");
       const std::string np = "/nodes/" + std::to_string(index);
@@ -979,7 +1097,10 @@ class Reader {
       Result<glm::dmat4> local = local_matrix(index);
       if (!local.ok()) return local.status();
       const glm::dmat4 world = parent * *local;
-      if (n.skin >= 0) return fail(np + "/skin", "skins are not supported");
+      if (n.skin >= 0 && n.skin >= static_cast<int>(m_.skins.size()))
+        return fail(np + "/skin", "skin " + std::to_string(n.skin) + " does not exist");
+      if (n.skin >= 0 && n.mesh < 0) return fail(np + "/skin", "a skin needs a mesh on its node");
+      node_parent_[index] = parent_index;
       if (n.mesh >= 0) {
         if (n.mesh >= static_cast<int>(m_.meshes.size()))
           return fail(np + "/mesh", "mesh " + std::to_string(n.mesh) + " does not exist");
@@ -990,12 +1111,15 @@ class Reader {
             return fail("/meshes/" + std::to_string(n.mesh) + "/primitives/" + std::to_string(k) +
                             "/material",
                         "material " + std::to_string(mat) + " does not exist");
-          Result<int> mesh = primitive_mesh(n.mesh, static_cast<int>(k), mat);
+          const bool deformed = n.skin >= 0 || !prims[k].targets.empty();
+          Result<int> mesh =
+              primitive_mesh(n.mesh, static_cast<int>(k), mat, deformed ? index : -1);
           if (!mesh.ok()) return mesh.status();
           if (mat < 0) {
             if (default_material_ < 0) default_material_ = static_cast<int>(materials_.size());
             mat = default_material_;
           }
+          instance_nodes_.push_back({index, static_cast<int>(scene_.instances.size())});
           scene_.instances.push_back({*mesh, mat, glm::mat4(world)});
         }
       }
@@ -1006,14 +1130,15 @@ class Reader {
       }
       RELIEF_RETURN_IF_ERROR(read_node_light(index, world));
       for (size_t c = 0; c < n.children.size(); ++c)
-        RELIEF_RETURN_IF_ERROR(visit(n.children[c], world, np + "/children/" + std::to_string(c)));
+        RELIEF_RETURN_IF_ERROR(
+            visit(n.children[c], world, np + "/children/" + std::to_string(c), index));
       return {};
     };
     const auto& roots = m_.scenes[si].nodes;
     for (size_t r = 0; r < roots.size(); ++r)
-      RELIEF_RETURN_IF_ERROR(
-          visit(roots[r], glm::dmat4(1.0),
-                "/scenes/" + std::to_string(si) + "/nodes/" + std::to_string(r)));
+      RELIEF_RETURN_IF_ERROR(visit(roots[r], glm::dmat4(1.0),
+                                   "/scenes/" + std::to_string(si) + "/nodes/" + std::to_string(r),
+                                   -1));
     return {};
   }
 
@@ -1077,27 +1202,17 @@ class Reader {
     }
     l.position = glm::vec3(world * glm::dvec4(0, 0, 0, 1));
     l.direction = glm::vec3(glm::normalize(glm::dmat3(world) * glm::dvec3(0, 0, -1)));
+    light_nodes_.push_back({node, static_cast<int>(scene_.lights.size())});
     scene_.lights.push_back(l);
     return {};
   }
 
   // ---- cameras ----
-  void bounds(glm::dvec3& lo, glm::dvec3& hi) const {
-    lo = glm::dvec3(std::numeric_limits<double>::infinity());
-    hi = -lo;
-    for (const Instance& inst : scene_.instances)
-      for (const glm::vec3& p : scene_.meshes[inst.mesh].positions) {
-        const glm::dvec3 w(glm::dmat4(inst.transform) * glm::dvec4(glm::dvec3(p), 1.0));
-        lo = glm::min(lo, w);
-        hi = glm::max(hi, w);
-      }
-    if (lo.x > hi.x) lo = hi = glm::dvec3(0.0);
-  }
-
   Status place_cameras() {
     glm::dvec3 lo, hi;
-    bounds(lo, hi);
+    scene_bounds(scene_, lo, hi);
     const glm::dvec3 centre = (lo + hi) * 0.5;
+    centre_ = centre;
     const double radius = std::max(glm::length(hi - lo) * 0.5, 1e-3);
     if (camera_nodes_.empty()) {
       scene_.cameras.push_back(default_camera(centre, radius));
@@ -1137,9 +1252,6 @@ class Reader {
         return fail(cp + "/type", "unknown camera type '" + gc.type + "'");
       }
       const glm::dvec3 pos(cn.world * glm::dvec4(0, 0, 0, 1));
-      const glm::dmat3 rot(cn.world);
-      const glm::dvec3 fwd = glm::normalize(rot * glm::dvec3(0, 0, -1));
-      const glm::dvec3 node_up = glm::normalize(rot * glm::dvec3(0, 1, 0));
       if (zfar == 0.0) {  // infinite perspective: reach past the farthest corner of the bounds
         double far = 0.0;
         for (int k = 0; k < 8; ++k) {
@@ -1154,16 +1266,8 @@ class Reader {
                     "expected a number > znear");
       c.znear = static_cast<float>(znear);
       c.zfar = static_cast<float>(zfar);
-      c.position = glm::vec3(pos);
-      // target: the point of the view ray nearest the centre of the scene bounds.
-      const double t = glm::dot(centre - pos, fwd);
-      c.target = glm::vec3(pos + fwd * (t > 1e-6 ? t : 1.0));
-      // up: world +y when the camera has no roll (the same view, canonically written).
-      const glm::dvec3 side = glm::cross(fwd, glm::dvec3(0, 1, 0));
-      const bool no_roll = glm::length(side) > 1e-6 &&
-                           std::abs(glm::dot(glm::normalize(side), node_up)) < 1e-9 &&
-                           node_up.y > 0.0;
-      c.up = no_roll ? glm::vec3(0, 1, 0) : glm::vec3(node_up);
+      orient_camera(c, cn.world, centre);
+      camera_nodes_bound_.push_back({cn.node, static_cast<int>(scene_.cameras.size())});
       scene_.cameras.push_back(c);
     }
     return {};
@@ -1185,6 +1289,181 @@ class Reader {
     return c;
   }
 
+  // ---- animations, skins, morph weights ----
+  // Builds Scene::animation when the file has animations, skins or morph targets, and poses the
+  // scene at time 0 of the first animation.
+  Status read_animation() {
+    if (m_.animations.empty() && deformers_.empty()) return {};
+    auto anim = std::make_shared<SceneAnimation>();
+    anim->centre = centre_;
+    anim->instances = instance_nodes_;
+    anim->cameras = camera_nodes_bound_;
+    anim->lights = light_nodes_;
+    for (size_t i = 0; i < m_.nodes.size(); ++i) {
+      const tinygltf::Node& n = m_.nodes[i];
+      AnimNode an;
+      an.name = n.name;
+      an.parent = node_parent_[i];
+      an.has_matrix = n.matrix.size() == 16;
+      if (an.has_matrix) an.matrix = glm::make_mat4(n.matrix.data());
+      if (n.translation.size() == 3)
+        an.translation = glm::dvec3(n.translation[0], n.translation[1], n.translation[2]);
+      if (n.rotation.size() == 4)
+        an.rotation = glm::dquat(n.rotation[3], n.rotation[0], n.rotation[1], n.rotation[2]);
+      if (n.scale.size() == 3) an.scale = glm::dvec3(n.scale[0], n.scale[1], n.scale[2]);
+      RELIEF_RETURN_IF_ERROR(node_weights(static_cast<int>(i), an.weights));
+      anim->nodes.push_back(std::move(an));
+    }
+    for (size_t s = 0; s < m_.skins.size(); ++s) {
+      const tinygltf::Skin& gs = m_.skins[s];
+      const std::string sp = "/skins/" + std::to_string(s);
+      Skin skin;
+      for (size_t j = 0; j < gs.joints.size(); ++j) {
+        if (gs.joints[j] < 0 || gs.joints[j] >= static_cast<int>(m_.nodes.size()))
+          return fail(sp + "/joints/" + std::to_string(j),
+                      "node " + std::to_string(gs.joints[j]) + " does not exist");
+        skin.joints.push_back(gs.joints[j]);
+      }
+      if (skin.joints.empty()) return fail(sp + "/joints", "a skin needs at least one joint");
+      skin.inverse_bind.assign(skin.joints.size(), glm::dmat4(1.0));
+      if (gs.inverseBindMatrices >= 0) {
+        std::vector<float> m;
+        RELIEF_RETURN_IF_ERROR(read_floats(gs.inverseBindMatrices, sp + "/inverseBindMatrices",
+                                           TINYGLTF_TYPE_MAT4, {kFloat}, m));
+        if (m.size() < 16 * skin.joints.size())
+          return fail(sp + "/inverseBindMatrices",
+                      "has " + std::to_string(m.size() / 16) + " matrices for " +
+                          std::to_string(skin.joints.size()) + " joints");
+        for (size_t j = 0; j < skin.joints.size(); ++j)
+          skin.inverse_bind[j] = glm::dmat4(glm::make_mat4(&m[16 * j]));
+      }
+      anim->skins.push_back(std::move(skin));
+    }
+    for (size_t a = 0; a < m_.animations.size(); ++a) {
+      Result<AnimationClip> clip = read_clip(static_cast<int>(a), *anim);
+      if (!clip.ok()) return clip.status();
+      anim->clips.push_back(std::move(*clip));
+    }
+    anim->deformers = deformers_;
+    pose_scene(*anim, PoseOptions{}, 0.0, scene_);
+    scene_.animation = std::move(anim);
+    return {};
+  }
+
+  // The morph weights of node i's mesh: the node's, else the mesh's, else zeros.
+  Status node_weights(int i, std::vector<float>& out) const {
+    const tinygltf::Node& n = m_.nodes[i];
+    if (n.mesh < 0 || n.mesh >= static_cast<int>(m_.meshes.size())) return {};
+    const tinygltf::Mesh& mesh = m_.meshes[n.mesh];
+    const size_t targets = mesh.primitives.empty() ? 0 : mesh.primitives[0].targets.size();
+    for (size_t k = 1; k < mesh.primitives.size(); ++k)
+      if (mesh.primitives[k].targets.size() != targets)
+        return fail(
+            "/meshes/" + std::to_string(n.mesh) + "/primitives/" + std::to_string(k) + "/targets",
+            "every primitive of a mesh needs the same number of morph targets");
+    const bool own = !n.weights.empty();
+    const std::vector<double>& w = own ? n.weights : mesh.weights;
+    const std::string wp = own ? "/nodes/" + std::to_string(i) + "/weights"
+                               : "/meshes/" + std::to_string(n.mesh) + "/weights";
+    if (!w.empty() && w.size() != targets)
+      return fail(wp, std::to_string(w.size()) + " weights for " + std::to_string(targets) +
+                          " morph targets");
+    out.assign(targets, 0.0f);
+    for (size_t k = 0; k < w.size(); ++k) {
+      if (!std::isfinite(w[k])) return fail(wp + "/" + std::to_string(k), "not finite");
+      out[k] = static_cast<float>(w[k]);
+    }
+    return {};
+  }
+
+  Result<AnimationClip> read_clip(int index, const SceneAnimation& anim) const {
+    const tinygltf::Animation& ga = m_.animations[index];
+    const std::string ap = "/animations/" + std::to_string(index);
+    AnimationClip clip;
+    clip.name = ga.name.empty() ? "animation" + std::to_string(index) : ga.name;
+    // Samplers are read for the channels that use them (their width depends on the path).
+    std::vector<int> width(ga.samplers.size(), -1);
+    std::vector<AnimPath> path(ga.samplers.size(), AnimPath::kTranslation);
+    for (size_t c = 0; c < ga.channels.size(); ++c) {
+      const tinygltf::AnimationChannel& gc = ga.channels[c];
+      const std::string cp = ap + "/channels/" + std::to_string(c);
+      AnimationChannel ch;
+      ch.node = gc.target_node;
+      ch.sampler = gc.sampler;
+      if (gc.sampler < 0 || gc.sampler >= static_cast<int>(ga.samplers.size()))
+        return fail(cp + "/sampler", "sampler " + std::to_string(gc.sampler) + " does not exist");
+      if (ch.node < 0 || ch.node >= static_cast<int>(m_.nodes.size()))
+        return fail(cp + "/target/node", "node " + std::to_string(ch.node) + " does not exist");
+      int w = 3;
+      if (gc.target_path == "translation") {
+        ch.path = AnimPath::kTranslation;
+      } else if (gc.target_path == "rotation") {
+        ch.path = AnimPath::kRotation;
+        w = 4;
+      } else if (gc.target_path == "scale") {
+        ch.path = AnimPath::kScale;
+      } else if (gc.target_path == "weights") {
+        ch.path = AnimPath::kWeights;
+        w = static_cast<int>(anim.nodes[ch.node].weights.size());
+        if (w == 0)
+          return fail(cp + "/target/path",
+                      "node " + std::to_string(ch.node) + " has no mesh with morph targets");
+      } else {
+        return fail(cp + "/target/path", "unknown path '" + gc.target_path +
+                                             "' (translation, rotation, scale, weights)");
+      }
+      if (ch.path != AnimPath::kWeights && anim.nodes[ch.node].has_matrix)
+        return fail(cp + "/target/node",
+                    "node " + std::to_string(ch.node) + " has a matrix and cannot be animated");
+      if (width[ch.sampler] >= 0 && width[ch.sampler] != w)
+        return fail(cp + "/sampler", "sampler shared by channels of different widths");
+      width[ch.sampler] = w;
+      path[ch.sampler] = ch.path;
+      clip.channels.push_back(ch);
+    }
+    for (size_t i = 0; i < ga.samplers.size(); ++i) {
+      const tinygltf::AnimationSampler& gs = ga.samplers[i];
+      const std::string sp = ap + "/samplers/" + std::to_string(i);
+      AnimationSampler s;
+      if (width[i] < 0) {  // no channel uses it
+        clip.samplers.push_back(s);
+        continue;
+      }
+      s.width = width[i];
+      if (gs.interpolation.empty() || gs.interpolation == "LINEAR")
+        s.interpolation = Interpolation::kLinear;
+      else if (gs.interpolation == "STEP")
+        s.interpolation = Interpolation::kStep;
+      else if (gs.interpolation == "CUBICSPLINE")
+        s.interpolation = Interpolation::kCubicSpline;
+      else
+        return fail(sp + "/interpolation",
+                    "unknown interpolation '" + gs.interpolation + "' (LINEAR, STEP, CUBICSPLINE)");
+      RELIEF_RETURN_IF_ERROR(
+          read_floats(gs.input, sp + "/input", TINYGLTF_TYPE_SCALAR, {kFloat}, s.times));
+      for (size_t k = 0; k < s.times.size(); ++k)
+        if (s.times[k] < 0.0f || (k > 0 && !(s.times[k] > s.times[k - 1])))
+          return fail(sp + "/input", "key times must be >= 0 and strictly increasing (key " +
+                                         std::to_string(k) + ")");
+      const bool rot = path[i] == AnimPath::kRotation;
+      const int type = path[i] == AnimPath::kWeights ? TINYGLTF_TYPE_SCALAR
+                       : rot                         ? TINYGLTF_TYPE_VEC4
+                                                     : TINYGLTF_TYPE_VEC3;
+      std::vector<int> ctypes = {kFloat};
+      if (rot) ctypes = {kFloat, -kByte, -kUByte, -kShort, -kUShort};
+      RELIEF_RETURN_IF_ERROR(read_floats(gs.output, sp + "/output", type, ctypes, s.values));
+      const size_t per_key =
+          static_cast<size_t>(s.width) * (s.interpolation == Interpolation::kCubicSpline ? 3 : 1);
+      if (s.values.size() != s.times.size() * per_key)
+        return fail(sp + "/output", std::to_string(s.values.size()) + " values for " +
+                                        std::to_string(s.times.size()) + " keys, expected " +
+                                        std::to_string(s.times.size() * per_key));
+      clip.duration = std::max(clip.duration, static_cast<double>(s.times.back()));
+      clip.samplers.push_back(std::move(s));
+    }
+    return clip;
+  }
+
   std::string path_;
   std::string base_dir_;
   tinygltf::Model& m_;
@@ -1194,6 +1473,11 @@ class Reader {
   std::map<PrimitiveKey, int> meshes_;
   std::map<std::tuple<int, int, bool>, TexturePtr> textures_;
   std::vector<CameraNode> camera_nodes_;
+  // Animation: parents, which node each instance, camera and light follows, deformed meshes.
+  std::vector<int> node_parent_;
+  std::vector<NodeBinding> instance_nodes_, camera_nodes_bound_, light_nodes_;
+  std::vector<Deformer> deformers_;
+  glm::dvec3 centre_{0.0};
 };
 
 // Keeps the encoded bytes; decoding happens in Reader::texture through OpenImageIO.

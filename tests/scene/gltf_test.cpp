@@ -20,6 +20,7 @@
 
 #include "apps/scene_source.h"
 #include "render/render.h"
+#include "scene/animation.h"
 #include "scene/builtin.h"
 #include "scene/image_io.h"
 
@@ -718,6 +719,117 @@ TEST_F(Gltf, NonIndexedPrimitivesAndDefaultMaterial) {
   EXPECT_EQ(m.tangents.size(), 6u);
   EXPECT_EQ(s->materials[s->instances[1].material].name, "default");
   EXPECT_EQ(s->materials[s->instances[1].material].technique, "flat");
+}
+
+}  // namespace
+}  // namespace relief
+
+namespace relief {
+namespace {
+
+// quad_doc with a skin (every vertex on joint node 3, identity inverse bind), a morph target
+// moving every vertex by +1 along z, and an animation: the joint's translation LINEAR from 0 to
+// (0, 2, 0) over 2 s, the morph weight STEP 0 then 1 from t = 1.
+Doc animated_quad_doc(const fs::path& dir) {
+  Doc d = quad_doc(dir);
+  json& j = d.j;
+  json& prim = j["meshes"][0]["primitives"][0];
+  const std::vector<uint8_t> joints(16, 0);
+  const std::vector<float> weights = {1, 0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0};
+  prim["attributes"]["JOINTS_0"] = d.accessor(joints, 4, 5121, "VEC4");
+  prim["attributes"]["WEIGHTS_0"] = d.accessor(weights, 4, kFloatType, "VEC4");
+  const std::vector<float> delta = {0, 0, 1, 0, 0, 1, 0, 0, 1, 0, 0, 1};
+  prim["targets"] = json::array({{{"POSITION", d.accessor(delta, 3, kFloatType, "VEC3")}}});
+  j["meshes"][0]["weights"] = {0.0};
+  j["nodes"].push_back({{"name", "joint"}});  // node 3
+  j["scenes"][0]["nodes"].push_back(3);
+  j["nodes"][1]["skin"] = 0;
+  j["skins"] = json::array({{{"joints", {3}}}});
+  const std::vector<float> times = {0, 2}, moves = {0, 0, 0, 0, 2, 0}, wtimes = {0, 1},
+                           wvalues = {0, 1};
+  const int ti = d.accessor(times, 1, kFloatType, "SCALAR");
+  const int mi = d.accessor(moves, 3, kFloatType, "VEC3");
+  const int wt = d.accessor(wtimes, 1, kFloatType, "SCALAR");
+  const int wv = d.accessor(wvalues, 1, kFloatType, "SCALAR");
+  j["animations"] = json::array(
+      {{{"name", "lift"},
+        {"samplers", json::array({{{"input", ti}, {"output", mi}},
+                                  {{"input", wt}, {"output", wv}, {"interpolation", "STEP"}}})},
+        {"channels",
+         json::array({{{"sampler", 0}, {"target", {{"node", 3}, {"path", "translation"}}}},
+                      {{"sampler", 1}, {"target", {{"node", 1}, {"path", "weights"}}}}})}}});
+  return d;
+}
+
+glm::vec3 world_vertex(const Scene& s, size_t v) {
+  const Instance& inst = s.instances.at(0);
+  return glm::vec3(inst.transform * glm::vec4(s.meshes[inst.mesh].positions[v], 1.0f));
+}
+
+TEST_F(Gltf, AnimationsSkinsAndMorphTargetsArePosedPerFrame) {
+  Result<Scene> r = load_gltf(animated_quad_doc(dir_).write(dir_, "animated"));
+  ASSERT_TRUE(r.ok()) << r.status().message();
+  Scene& s = *r;
+  ASSERT_TRUE(s.animation);
+  ASSERT_EQ(s.animation->clips.size(), 1u);
+  EXPECT_EQ(s.animation->clips[0].name, "lift");
+  EXPECT_EQ(s.animation->clips[0].duration, 2.0);
+  ASSERT_EQ(s.animation->deformers.size(), 1u);
+  const glm::vec3 rest[4] = {
+      {-0.5f, 0.5f, 0}, {0.5f, 0.5f, 0}, {0.5f, -0.5f, 0}, {-0.5f, -0.5f, 0}};
+  // Loaded at t = 0: the skin places the vertices where the joint (at the origin) puts them,
+  // whatever the mesh node's own transform (glTF 3.7.3).
+  for (size_t v = 0; v < 4; ++v)
+    for (int c = 0; c < 3; ++c) EXPECT_NEAR(world_vertex(s, v)[c], rest[v][c], 1e-6f) << v;
+  pose_scene(*s.animation, PoseOptions{}, 0.5, s);  // joint at y 0.5, weight still 0
+  for (size_t v = 0; v < 4; ++v) {
+    const glm::vec3 w = world_vertex(s, v);
+    EXPECT_NEAR(w.y, rest[v].y + 0.5f, 1e-6f) << v;
+    EXPECT_NEAR(w.z, 0.0f, 1e-6f) << v;
+  }
+  pose_scene(*s.animation, PoseOptions{}, 1.5, s);  // joint at y 1.5, morph weight 1
+  for (size_t v = 0; v < 4; ++v) {
+    const glm::vec3 w = world_vertex(s, v);
+    EXPECT_NEAR(w.x, rest[v].x, 1e-6f) << v;
+    EXPECT_NEAR(w.y, rest[v].y + 1.5f, 1e-6f) << v;
+    EXPECT_NEAR(w.z, 1.0f, 1e-6f) << v;
+  }
+}
+
+TEST_F(Gltf, AnimationErrorsNameTheirPath) {
+  {
+    Doc d = animated_quad_doc(dir_);
+    d.j["animations"][0]["samplers"][0]["interpolation"] = "SMOOTH";
+    expect_error(d.write(dir_, "interp"), "/animations/0/samplers/0/interpolation",
+                 "unknown interpolation 'SMOOTH'");
+  }
+  {
+    Doc d = animated_quad_doc(dir_);
+    d.j["animations"][0]["channels"][1]["target"]["node"] = 3;  // the joint has no mesh
+    expect_error(d.write(dir_, "weights"), "/animations/0/channels/1/target/path",
+                 "no mesh with morph targets");
+  }
+  {
+    Doc d = animated_quad_doc(dir_);
+    const std::vector<float> times = {0, 0};
+    d.j["animations"][0]["samplers"][0]["input"] = d.accessor(times, 1, kFloatType, "SCALAR");
+    expect_error(d.write(dir_, "times"), "/animations/0/samplers/0/input", "strictly increasing");
+  }
+  {
+    Doc d = animated_quad_doc(dir_);
+    d.j["meshes"][0]["primitives"][0]["attributes"]["JOINTS_1"] =
+        d.j["meshes"][0]["primitives"][0]["attributes"]["JOINTS_0"];
+    expect_error(d.write(dir_, "joints1"), "/meshes/0/primitives/0/attributes/JOINTS_1",
+                 "at most four joint influences");
+  }
+  {
+    Doc d = animated_quad_doc(dir_);
+    const std::vector<uint8_t> joints(16, 4);  // the skin has one joint
+    d.j["meshes"][0]["primitives"][0]["attributes"]["JOINTS_0"] =
+        d.accessor(joints, 4, 5121, "VEC4");
+    expect_error(d.write(dir_, "joint"), "/meshes/0/primitives/0/attributes/JOINTS_0",
+                 "names joint 4");
+  }
 }
 
 }  // namespace
