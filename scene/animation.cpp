@@ -317,7 +317,8 @@ PoseStats pose_scene(const SceneAnimation& anim, const PoseOptions& options, dou
     }
     stats.deform_ms += elapsed_ms(t0);
     stats.vertices += static_cast<long long>(d.rest.positions.size());
-    // Refit what the material derives from the surface's shape.
+    // Refit what the material derives from the surface's shape: relief_quadric's per-vertex
+    // quadric (a, b) and tile scale (scene/mesh_prep) follow the deformed surface.
     bool refit = options.technique == "relief_quadric";
     for (const Instance& inst : scene.instances)
       if (inst.mesh == d.mesh && options.technique.empty())
@@ -325,6 +326,7 @@ PoseStats pose_scene(const SceneAnimation& anim, const PoseOptions& options, dou
     if (refit) {
       const auto t1 = std::chrono::steady_clock::now();
       compute_tile_scale(out);
+      compute_quadrics(out);
       stats.refit_ms += elapsed_ms(t1);
       ++stats.refitted_meshes;
     }

@@ -250,3 +250,31 @@ TEST(Skin, TheReliefTexelUnderATrackedVertexStaysUnderIt) {
 
 }  // namespace
 }  // namespace relief
+
+namespace relief {
+namespace {
+
+TEST(Skin, ReliefQuadricMaterialsGetTheirQuadricsRefittedPerFrame) {
+  Result<Scene> s = make_bending_scene();
+  ASSERT_TRUE(s.ok());
+  PoseOptions plain;
+  EXPECT_EQ(pose_scene(*s->animation, plain, 1.0, *s).refitted_meshes, 0);
+  PoseOptions quadric;
+  quadric.technique = "relief_quadric";
+  const PoseStats ps = pose_scene(*s->animation, quadric, 1.0, *s);
+  EXPECT_EQ(ps.refitted_meshes, 1);
+  EXPECT_GE(ps.refit_ms, 0.0);
+  const Mesh& bent = s->meshes[0];
+  Mesh expected = bent;
+  compute_quadrics(expected);
+  compute_tile_scale(expected);
+  EXPECT_TRUE(same_bits(bent.quadric, expected.quadric));
+  EXPECT_TRUE(same_bits(bent.tile_scale, expected.tile_scale));
+  // The bend changes the fitted curvature somewhere (the rest data keeps the straight fit).
+  Mesh rest = s->animation->deformers[0].rest;
+  compute_quadrics(rest);
+  EXPECT_FALSE(same_bits(bent.quadric, rest.quadric));
+}
+
+}  // namespace
+}  // namespace relief
