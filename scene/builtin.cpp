@@ -235,7 +235,7 @@ const std::vector<BuiltinSceneInfo>& builtin_scenes() {
 }
 
 const char* default_scene_name() {
-  return "plane";
+  return "room";
 }
 
 Result<Scene> make_builtin_scene(const std::string& name) {
