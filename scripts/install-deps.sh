@@ -11,6 +11,7 @@ packages=(
   libgtest-dev libgmock-dev libbenchmark-dev
   libcli11-dev
   libepoxy-dev libegl-dev libegl-mesa0 libgl1-mesa-dri libglx-mesa0
+  clang-14 libclang-rt-14-dev  # libFuzzer targets (scripts/ci-fuzz.sh)
   chromium  # headless check of the `relief bench --report` page (tests/apps)
 )
 if [ "${RELIEF_EXTRA_PACKAGES:-}" != "" ]; then
