@@ -83,6 +83,24 @@ struct ClearValues {
   float depth = 0.0f;
 };
 
+// The attribute planes the CPU rasterizer interpolates one triangle with, for a backend that must
+// interpolate exactly as it does (the GL backend evaluates them per pixel). The setup draws a
+// triangle as it is, or clips it (near, far, guard band) into a fan: one part per triangle it
+// sets up, each with its bounding box's first pixel (x0, y0), its corners in pixels (x, y; rows
+// top to bottom) and (c, dx, dy) per plane: depth, 1/w, then each varying times 1/w. A pixel's
+// value is ((c + dx fx) + dy fy), fx = px - x0, fy = py - y0, varyings divided by the 1/w
+// plane's value. False when the setup draws nothing of it.
+struct CpuTrianglePlanes {
+  struct Part {
+    int x0 = 0, y0 = 0;
+    float corner[6] = {};
+    std::vector<float> planes;
+  };
+  std::vector<Part> parts;
+};
+bool cpu_triangle_planes(const glm::vec4 clip[3], const float* const varyings[3],
+                         int num_varyings, int width, int height, CpuTrianglePlanes& out);
+
 class Rasterizer {
  public:
   Rasterizer(ThreadPool& pool, RasterConfig config = {});
