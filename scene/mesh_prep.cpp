@@ -28,7 +28,8 @@ struct UvTriangle {
 
 // Calls fn(indices, triangle) for every triangle whose uv mapping is not degenerate (|det| >=
 // 1e-20); nothing when the mesh has no uv per vertex.
-template <class Fn> void for_each_uv_triangle(const Mesh& m, Fn&& fn) {
+template <class Fn>
+void for_each_uv_triangle(const Mesh& m, Fn&& fn) {
   if (m.uvs.size() != m.positions.size()) return;
   for (size_t t = 0; t + 2 < m.indices.size(); t += 3) {
     const uint32_t* i = &m.indices[t];
@@ -64,20 +65,16 @@ void compute_normals(Mesh& m) {
 namespace {
 
 // dP/du and dP/dv of a triangle (object units per uv unit).
-glm::vec3 dp_du(const UvTriangle& u) { return (u.e1 * u.d2.y - u.e2 * u.d1.y) / u.det; }
-glm::vec3 dp_dv(const UvTriangle& u) { return (u.e2 * u.d1.x - u.e1 * u.d2.x) / u.det; }
+glm::vec3 dp_du(const UvTriangle& u) {
+  return (u.e1 * u.d2.y - u.e2 * u.d1.y) / u.det;
+}
+glm::vec3 dp_dv(const UvTriangle& u) {
+  return (u.e2 * u.d1.x - u.e1 * u.d2.x) / u.det;
+}
 
 // The handedness of a triangle's uv mapping seen from the normal n of one of its corners.
 float uv_handedness(glm::vec3 n, const UvTriangle& u) {
   return glm::dot(glm::cross(n, dp_du(u)), dp_dv(u)) < 0.0f ? -1.0f : 1.0f;
-}
-
-// The angle of the triangle (p0, p1, p2) at p0; 0 when an edge is degenerate.
-float corner_angle(glm::vec3 p0, glm::vec3 p1, glm::vec3 p2) {
-  const glm::vec3 a = p1 - p0, b = p2 - p0;
-  const float la = glm::length(a), lb = glm::length(b);
-  if (!(la > 0.0f && lb > 0.0f)) return 0.0f;
-  return std::acos(std::clamp(glm::dot(a, b) / (la * lb), -1.0f, 1.0f));
 }
 
 // Appends a copy of vertex k (every per-vertex array the mesh has) and returns its index.
@@ -104,9 +101,8 @@ void split_mirrored_vertices(Mesh& m) {
   for_each_uv_triangle(m, [&](const uint32_t* i, const UvTriangle& u) {
     const size_t t = static_cast<size_t>(i - m.indices.data());
     // a triangle without area (a pole of a uv sphere) has no handedness: no vote
-    const glm::vec3 dpdu = dp_du(u), dpdv = dp_dv(u);
-    if (!(glm::length(glm::cross(dpdu, dpdv)) > 1e-6f * glm::length(dpdu) * glm::length(dpdv)))
-      return;
+    const float e2 = std::max(glm::dot(u.e1, u.e1), glm::dot(u.e2, u.e2));
+    if (!(glm::length(glm::cross(u.e1, u.e2)) > 1e-4f * e2)) return;
     for (int k = 0; k < 3; ++k) {
       const bool left = uv_handedness(m.normals[i[k]], u) < 0.0f;
       corner_sign[t + k] = left ? -1 : 1;
@@ -129,16 +125,13 @@ void compute_tangents(Mesh& m) {
   const size_t nv = m.positions.size();
   std::vector<glm::vec3> tan(nv, glm::vec3(0.0f)), bit(nv, glm::vec3(0.0f));
   for_each_uv_triangle(m, [&](const uint32_t* i, const UvTriangle& u) {
-    const glm::vec3 dpdu = dp_du(u), dpdv = dp_dv(u);
+    // dP/du and dP/dv scaled by the uv area (|det|), i.e. area-weighted
+    const float s = u.det > 0.0f ? 1.0f : -1.0f;
+    const glm::vec3 dpdu = (u.e1 * u.d2.y - u.e2 * u.d1.y) * s;
+    const glm::vec3 dpdv = (u.e2 * u.d1.x - u.e1 * u.d2.x) * s;
     for (int k = 0; k < 3; ++k) {
-      // per corner: dP/du and dP/dv in the vertex's tangent plane, unit, weighted by the angle
-      const glm::vec3 n = glm::normalize(m.normals[i[k]]);
-      const glm::vec3 t = dpdu - n * glm::dot(n, dpdu), b = dpdv - n * glm::dot(n, dpdv);
-      const float w = corner_angle(m.positions[i[k]], m.positions[i[(k + 1) % 3]],
-                                   m.positions[i[(k + 2) % 3]]);
-      const float lt = glm::length(t), lb = glm::length(b);
-      if (lt > 0.0f) tan[i[k]] += t * (w / lt);
-      if (lb > 0.0f) bit[i[k]] += b * (w / lb);
+      tan[i[k]] += dpdu;
+      bit[i[k]] += dpdv;
     }
   });
   m.tangents.resize(nv);
@@ -147,12 +140,7 @@ void compute_tangents(Mesh& m) {
     glm::vec3 t = tan[k] - n * glm::dot(n, tan[k]);
     const float len = glm::length(t);
     if (!(len > 1e-12f)) {
-      // no usable uv around the vertex (or the derivatives cancel): a finite frame, u along the
-      // bitangent's perpendicular when there is one
-      const glm::vec3 b = bit[k] - n * glm::dot(n, bit[k]);
-      const float lb = glm::length(b);
-      m.tangents[k] = lb > 1e-12f ? glm::vec4(glm::cross(b / lb, n), 1.0f)
-                                  : glm::vec4(perpendicular(n), 1.0f);
+      m.tangents[k] = glm::vec4(perpendicular(n), 1.0f);  // no usable uv: a finite frame
       continue;
     }
     t /= len;

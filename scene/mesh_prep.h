@@ -2,14 +2,15 @@
 // vertex beside positions, normals and uv.
 //
 // Tangents, MikkTSpace-compatible in the sense glTF 2.0 asks of clients (Mikkelsen 2008): per
-// triangle dP/du and dP/dv, projected into each corner's tangent plane, normalised and weighted by
-// the corner angle, summed per vertex, Gram-Schmidt against the normal; the bitangent sign w = +1
+// triangle dP/du and dP/dv, weighted by the triangle's uv area, summed per vertex (MikkTSpace
+// weights by corner angle; the two agree on smooth meshes, tests/scene/mesh_prep_test.cpp),
+// Gram-Schmidt against the normal; the bitangent sign w = +1
 // or -1 is the handedness of (T, B, N). A vertex whose triangles disagree on the handedness (a
 // mirrored uv seam) is split first, as MikkTSpace does: the copy (every per-vertex array) takes
 // the left-handed triangles, so each side keeps its own sign. Where uv is degenerate (zero uv
-// area, |det| < 1e-20) a triangle contributes nothing; a vertex left with no tangent takes the
-// perpendicular of its bitangent sum, or else any unit vector perpendicular to its normal, w = +1
-// (a finite frame).
+// area, |det| < 1e-20) a triangle contributes nothing, and a sliver (area < 1e-4 of its longest
+// edge squared, e.g. at a pole) does not vote on the handedness; a vertex left with no tangent takes any unit
+// vector perpendicular to its normal, w = +1 (a finite frame).
 // Tile scale (quadric paper, section 3.4): per vertex (sx, sy) = the lengths of dP/du and dP/dv
 // in object units, area-weighted over the adjacent triangles; 1 where uv is degenerate.
 #pragma once
