@@ -6,6 +6,8 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <set>
 #include <string>
 
@@ -184,11 +186,10 @@ TEST(FramesCli, ShardsWriteEachFrameOnce) {
 TEST(FramesCli, BadValuesAreOneLineUsageErrorsWithNothingWritten) {
   const std::string dir = fresh_dir("bad");
   const std::string out = " -o " + dir + "/b%04d.png --size 16x12 ";
-  for (const std::string& flags :
-       {"--frames 5-3", "--frames x", "--frames -2", "--frames 1-2 --shard 2/2",
-        "--frames 1-2 --shard 0/0", "--frames 1-2 --shard a", "--shard 0/2", "--spp 0", "--spp 3",
-        "--spp 1000", "--exposure nan", "--exposure 30", "--exposure inf", "--exposure x",
-        "--fps 0"}) {
+  for (const char* flags : {"--frames 5-3", "--frames x", "--frames -2", "--frames 1-2 --shard 2/2",
+                            "--frames 1-2 --shard 0/0", "--frames 1-2 --shard a", "--shard 0/2",
+                            "--spp 0", "--spp 3", "--spp 1000", "--exposure nan", "--exposure 30",
+                            "--exposure inf", "--exposure x", "--fps 0"}) {
     const CliRun r = run("render plane" + out + flags);
     EXPECT_EQ(r.code, 2) << flags << ": " << r.out;
     EXPECT_EQ(lines(r.out), 1) << flags << ": " << r.out;
@@ -248,6 +249,19 @@ TEST(FramesCli, ExposureScalesLinearRadianceExactly) {
     lit += p.r > 0.0f;
   }
   EXPECT_GT(lit, e0.pixels.size() / 2);
+}
+
+TEST(FramesCli, AnimatedSceneFramesCarryPoseStatistics) {
+  const std::string dir = fresh_dir("bending");
+  const CliRun r = run("render bending --size 64x48 --threads 2 --frames 11-12 -o " + dir +
+                       "/b%d.png --stats " + dir + "/s%d.json");
+  ASSERT_EQ(r.code, 0) << r.out;
+  EXPECT_NE(r.out.find("deform"), std::string::npos) << r.out;
+  std::ifstream f(dir + "/s12.json");
+  const std::string json((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
+  EXPECT_NE(json.find("\"deformed_vertices\": 1685"), std::string::npos) << json;
+  EXPECT_NE(json.find("\"time_s\": 0.5"), std::string::npos) << json;  // frame 12 at 24 fps
+  EXPECT_FALSE(same_pixels(read(dir + "/b11.png"), read(dir + "/b12.png")));
 }
 
 }  // namespace

@@ -729,7 +729,8 @@ namespace {
 
 // quad_doc with a skin (every vertex on joint node 3, identity inverse bind), a morph target
 // moving every vertex by +1 along z, and an animation: the joint's translation LINEAR from 0 to
-// (0, 2, 0) over 2 s, the morph weight STEP 0 then 1 from t = 1.
+// (0, 2, 0) over 2 s, the morph weight STEP 0 then 1 from t = 1, the camera node's translation
+// LINEAR from (0, 0, 10) to (0, 2, 10).
 Doc animated_quad_doc(const fs::path& dir) {
   Doc d = quad_doc(dir);
   json& j = d.j;
@@ -751,13 +752,17 @@ Doc animated_quad_doc(const fs::path& dir) {
   const int mi = d.accessor(moves, 3, kFloatType, "VEC3");
   const int wt = d.accessor(wtimes, 1, kFloatType, "SCALAR");
   const int wv = d.accessor(wvalues, 1, kFloatType, "SCALAR");
+  const std::vector<float> cam_moves = {0, 0, 10, 0, 2, 10};
+  const int cm = d.accessor(cam_moves, 3, kFloatType, "VEC3");
   j["animations"] = json::array(
       {{{"name", "lift"},
         {"samplers", json::array({{{"input", ti}, {"output", mi}},
-                                  {{"input", wt}, {"output", wv}, {"interpolation", "STEP"}}})},
+                                  {{"input", wt}, {"output", wv}, {"interpolation", "STEP"}},
+                                  {{"input", ti}, {"output", cm}}})},
         {"channels",
          json::array({{{"sampler", 0}, {"target", {{"node", 3}, {"path", "translation"}}}},
-                      {{"sampler", 1}, {"target", {{"node", 1}, {"path", "weights"}}}}})}}});
+                      {{"sampler", 1}, {"target", {{"node", 1}, {"path", "weights"}}}},
+                      {{"sampler", 2}, {"target", {{"node", 2}, {"path", "translation"}}}}})}}});
   return d;
 }
 
@@ -782,6 +787,8 @@ TEST_F(Gltf, AnimationsSkinsAndMorphTargetsArePosedPerFrame) {
   for (size_t v = 0; v < 4; ++v)
     for (int c = 0; c < 3; ++c) EXPECT_NEAR(world_vertex(s, v)[c], rest[v][c], 1e-6f) << v;
   pose_scene(*s.animation, PoseOptions{}, 0.5, s);  // joint at y 0.5, weight still 0
+  EXPECT_EQ(s.cameras.at(0).position, glm::vec3(0.0f, 0.5f, 10.0f));  // the camera node moves
+  EXPECT_EQ(s.cameras[0].target.y, 0.5f);                             // still looking down -z
   for (size_t v = 0; v < 4; ++v) {
     const glm::vec3 w = world_vertex(s, v);
     EXPECT_NEAR(w.y, rest[v].y + 0.5f, 1e-6f) << v;
