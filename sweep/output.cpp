@@ -1,4 +1,5 @@
 // Sweep output (sweep/sweep.h): the documented columns as CSV, JSON and a terminal table.
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
@@ -135,8 +136,13 @@ std::string format_table(const std::vector<Row>& rows) {
   for (const Row& r : rows) gl |= r.gl_ns_median >= 0 || !r.gl_note.empty();
   std::ostringstream o;
   char buf[512];
-  std::snprintf(buf, sizeof buf, "%-9s %-20s %5s %8s %15s %7s %7s %7s %7s %8s %7s %6s %6s %6s",
-                "field", "setting", "angle", "ns/frag", "(min-max)", "fetch", "f.p99", "steps",
+  int fw = 5, sw = 7;  // field and setting columns as wide as their longest entry
+  for (const Row& r : rows) {
+    fw = std::max(fw, static_cast<int>(r.field.size()));
+    sw = std::max(sw, static_cast<int>(r.setting.size()));
+  }
+  std::snprintf(buf, sizeof buf, "%-*s %-*s %5s %8s %15s %7s %7s %7s %7s %8s %7s %6s %6s %6s", fw,
+                "field", sw, "setting", "angle", "ns/frag", "(min-max)", "fetch", "f.p99", "steps",
                 "s.p99", "err p99", "depth99", "wrong", "psnr", "shadow");
   o << buf;
   if (gl) o << "   gl ns/frag  cpu/gl";
@@ -146,8 +152,8 @@ std::string format_table(const std::vector<Row>& rows) {
     std::snprintf(range, sizeof range, "(%.0f-%.0f)", r.ns_min, r.ns_max);
     std::snprintf(
         buf, sizeof buf,
-        "%-9s %-20s %5.0f %8.0f %15s %7.2f %7.0f %7.2f %7.0f %8.4f %7.4f %6.4f %6.1f %6.4f",
-        r.field.c_str(), r.setting.c_str(), r.angle, r.ns_median, range, r.fetches_mean,
+        "%-*s %-*s %5.0f %8.0f %15s %7.2f %7.0f %7.2f %7.0f %8.4f %7.4f %6.4f %6.1f %6.4f", fw,
+        r.field.c_str(), sw, r.setting.c_str(), r.angle, r.ns_median, range, r.fetches_mean,
         r.fetches_p99, r.steps_mean, r.steps_p99, r.hit_err_p99, r.depth_err_p99,
         r.wrong_layer_frac, r.psnr_db, r.shadow_disagree_frac);
     o << buf;
