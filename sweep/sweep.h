@@ -163,8 +163,9 @@ std::vector<size_t> pareto_front(const std::vector<Row>& rows);
 
 // ---- adaptive quality (sweep/target.cpp) ----
 // View angles (degrees from the normal) under which `camera` sees the instances of `material`:
-// sampled on each visible front-facing triangle, summarised as the 10th, 50th and 90th
-// percentiles and the largest, rounded to whole degrees, deduplicated, at most 89.
+// sampled on a barycentric grid of each visible front-facing triangle, each sample weighted by the
+// screen area it stands for (cos / distance^2), summarised as the pixel-weighted 10th, 50th and
+// 90th percentiles and the largest, rounded to whole degrees, deduplicated, at most 89.
 std::vector<double> scene_view_angles(const Scene& scene, int material, int camera, int width,
                                       int height);
 

@@ -22,17 +22,26 @@ std::vector<double> scene_view_angles(const Scene& scene, int material, int came
   const glm::mat4 vp = cam.projection(static_cast<float>(width) / height) * cam.view();
   const glm::vec3 forward = glm::normalize(cam.target - cam.position);
   const bool two_sided = scene.materials.at(material).double_sided;
-  std::vector<double> angles;
+  // (angle, weight): each sample weighted by the screen area it stands for, cos / distance^2
+  // under perspective (cos under orthographic), so the percentiles are over pixels, not over
+  // world area
+  std::vector<std::pair<double, double>> samples;
+  size_t triangles = 0;
+  for (const Instance& inst : scene.instances)
+    if (inst.material == material) triangles += scene.meshes.at(inst.mesh).indices.size() / 3;
+  const int grid =
+      std::clamp(static_cast<int>(200.0 / std::sqrt(std::max<size_t>(triangles, 1))), 3, 40);
   for (const Instance& inst : scene.instances) {
     if (inst.material != material) continue;
     const Mesh& m = scene.meshes.at(inst.mesh);
     const glm::mat3 nm = glm::transpose(glm::inverse(glm::mat3(inst.transform)));
     for (size_t t = 0; t + 2 < m.indices.size(); t += 3) {
       const uint32_t k[3] = {m.indices[t], m.indices[t + 1], m.indices[t + 2]};
-      // a 4 x 4 grid of barycentric samples inside the triangle
-      for (int a = 0; a < 4; ++a)
-        for (int b = 0; a + b < 4; ++b) {
-          const float w1 = (a + 0.33f) / 4.5f, w2 = (b + 0.33f) / 4.5f, w0 = 1.0f - w1 - w2;
+      // a grid of barycentric samples inside the triangle
+      for (int a = 0; a < grid; ++a)
+        for (int b = 0; a + b < grid; ++b) {
+          const float w1 = (a + 0.33f) / (grid + 0.5f), w2 = (b + 0.33f) / (grid + 0.5f);
+          const float w0 = 1.0f - w1 - w2;
           const glm::vec3 p =
               w0 * m.positions[k[0]] + w1 * m.positions[k[1]] + w2 * m.positions[k[2]];
           const glm::vec3 n = w0 * m.normals[k[0]] + w1 * m.normals[k[1]] + w2 * m.normals[k[2]];
@@ -46,18 +55,28 @@ std::vector<double> scene_view_angles(const Scene& scene, int material, int came
           double cosv = glm::dot(wn, to_eye);
           if (two_sided) cosv = std::fabs(cosv);
           if (!(cosv > 0.0)) continue;  // back-facing
-          angles.push_back(glm::degrees(std::acos(std::min(cosv, 1.0))));
+          const double d2 = cam.orthographic ? 1.0 : glm::dot(cam.position - wp, cam.position - wp);
+          samples.emplace_back(glm::degrees(std::acos(std::min(cosv, 1.0))),
+                               cosv / std::max(d2, 1e-12));
         }
     }
   }
-  if (angles.empty()) return {};
-  std::sort(angles.begin(), angles.end());
+  if (samples.empty()) return {};
+  std::sort(samples.begin(), samples.end());
+  double total = 0.0;
+  for (const auto& s : samples) total += s.second;
   std::set<double> out;
   for (double q : {0.10, 0.50, 0.90}) {
-    const size_t i = static_cast<size_t>(q * static_cast<double>(angles.size() - 1));
-    out.insert(std::min(89.0, std::round(angles[i])));
+    double acc = 0.0;
+    for (const auto& [angle, w] : samples) {
+      acc += w;
+      if (acc >= q * total) {
+        out.insert(std::min(89.0, std::round(angle)));
+        break;
+      }
+    }
   }
-  out.insert(std::min(89.0, std::round(angles.back())));
+  out.insert(std::min(89.0, std::round(samples.back().first)));
   return {out.begin(), out.end()};
 }
 
