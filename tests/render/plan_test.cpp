@@ -63,6 +63,7 @@ TEST(Plan, EveryBuiltinSceneListsExactlyTheExpectedPasses) {
       {"plane", {"main"}},  // its sun casts no shadows
       {"pattern", {"main"}},
       {"room", {"shadow:spot", "main"}},  // the fill light casts none
+      {"bending", {"main"}},              // plane's sun, no shadows
   };
   for (const BuiltinSceneInfo& info : builtin_scenes()) {
     Result<Scene> s = make_builtin_scene(info.name);
