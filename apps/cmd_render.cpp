@@ -43,8 +43,8 @@ struct RenderArgs {
   bool no_shadows = false;
   bool no_self_shadow = false;
   ShadowSettings shadow;
-  std::string frames;       // A-B
-  std::string shard;        // I/N
+  std::string frames;  // A-B
+  std::string shard;   // I/N
   std::string spp = "1";
   std::string exposure = "0";
   double fps = 24.0;
@@ -62,8 +62,8 @@ class OutputSet {
     namespace fs = std::filesystem;
     const fs::path p(path);
     const std::string tmp =
-        (p.parent_path() / ("." + p.stem().string() + ".tmp" + std::to_string(::getpid()) +
-                            p.extension().string()))
+        (p.parent_path() /
+         ("." + p.stem().string() + ".tmp" + std::to_string(::getpid()) + p.extension().string()))
             .string();
     files_.emplace_back(tmp, path);
     return tmp;
@@ -131,8 +131,7 @@ class Progress {
   ~Progress() { clear(); }
   void draw(size_t done) {
     if (!on_) return;
-    const double s =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - t0_).count();
+    const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0_).count();
     const int width = 30, fill = static_cast<int>(width * done / total_);
     const double per = done ? s / done : 0.0;
     std::fprintf(stderr, "\r\033[K[%s%s] %zu/%zu frames, %.2f s/frame, ETA %.0f s",
@@ -313,7 +312,8 @@ int do_render(const RenderArgs& a) {
       scene->cameras[opt.camera] = orbit_camera(scene->cameras[opt.camera], centre, angle);
     }
     Result<Plan> plan = make_plan(*scene, opt);
-    if (!plan.ok()) return fail(plan.status().message(), plan.status().exit_code());
+    if (!plan.ok())
+      return (progress.clear(), fail(plan.status().message(), plan.status().exit_code()));
     if (a.explain && fi == 0) std::printf("%s", plan->explain().c_str());
     Result<RenderResult> r = (*backend)->render(*scene, *plan, opt);
     if (!r.ok()) return (progress.clear(), fail(r.status().message(), r.status().exit_code()));
@@ -325,7 +325,8 @@ int do_render(const RenderArgs& a) {
     if (*exposure != 0.0f) apply_exposure(color, exposure_scale);
     OutputSet out;
     s = write_image(out.temp_for(image_file), color);
-    if (!s.ok()) return (progress.clear(), fail(s.with_context(image_file).message(), s.exit_code()));
+    if (!s.ok())
+      return (progress.clear(), fail(s.with_context(image_file).message(), s.exit_code()));
     for (const auto& [name, pattern] : names.aovs) {
       const std::string file = name_of(pattern);
       const std::string tmp = out.temp_for(file);
@@ -334,7 +335,8 @@ int do_render(const RenderArgs& a) {
       } else {
         for (int i = 0; i < kAovCount; ++i)
           if (name == kAovNames[i])
-            s = write_image(tmp, point_downsample(r->framebuffer.aov_image(static_cast<Aov>(i)), k));
+            s = write_image(tmp,
+                            point_downsample(r->framebuffer.aov_image(static_cast<Aov>(i)), k));
       }
       if (!s.ok()) return (progress.clear(), fail(file + ": " + s.message(), s.exit_code()));
     }
@@ -392,7 +394,8 @@ int do_render(const RenderArgs& a) {
 void register_render(CLI::App& app, Action& action) {
   auto a = std::make_shared<RenderArgs>();
   auto* sub = app.add_subcommand("render", "Render a scene (one frame or --frames A-B) to images");
-  sub->add_option("scene", a->scene, "Built-in scene name (see `relief scenes`) or .gltf/.glb file");
+  sub->add_option("scene", a->scene,
+                  "Built-in scene name (see `relief scenes`) or .gltf/.glb file");
   sub->add_option("-o,--output", a->output, "Output image (.png 8-bit sRGB, .exr float, .tif)")
       ->required();
   sub->add_option("--size", a->size, "Image size WxH")->capture_default_str();
