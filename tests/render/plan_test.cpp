@@ -64,6 +64,10 @@ TEST(Plan, EveryBuiltinSceneListsExactlyTheExpectedPasses) {
       {"pattern", {"main"}},
       {"room", {"shadow:spot", "main"}},  // the fill light casts none
       {"bending", {"main"}},              // plane's sun, no shadows
+      {"sphere", {"main"}},               // the curved scenes' suns cast none
+      {"cylinder", {"main"}},
+      {"torus", {"main"}},
+      {"teapot", {"main"}},
   };
   for (const BuiltinSceneInfo& info : builtin_scenes()) {
     Result<Scene> s = make_builtin_scene(info.name);
