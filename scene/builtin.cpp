@@ -12,6 +12,7 @@
 #include "scene/builtin_bending.h"
 #include "scene/builtin_curved.h"
 #include "scene/builtin_room.h"
+#include "scene/builtin_showcase.h"
 #include "scene/mesh_prep.h"
 
 namespace relief {
@@ -230,6 +231,9 @@ const std::vector<BuiltinSceneInfo>& builtin_scenes() {
       {"torus", "relief bumps on a torus seen from above: its inner half is a saddle region"},
       {"teapot", "relief bumps on the Utah teapot (32 Bezier patches), relief_quadric"},
       {"bending", "a relief-mapped cylinder bent by two joints (skinned, animated: --frames 0-47)"},
+      {"interpenetration",
+       "spheres through a relief floor and two coincident relief cylinders (depth correction)"},
+      {"teatime", "a relief teapot on a relief floor under a shadow-casting spot light"},
   };
   return scenes;
 }
@@ -243,6 +247,8 @@ Result<Scene> make_builtin_scene(const std::string& name) {
   if (name == "room") return make_room_scene();
   if (name == "pattern") return make_pattern();
   if (name == "bending") return make_bending_scene();
+  if (name == "interpenetration") return make_interpenetration_scene();
+  if (name == "teatime") return make_teatime_scene();
   if (name == "sphere" || name == "cylinder" || name == "torus" || name == "teapot")
     return make_curved_scene(name);
   std::string known;

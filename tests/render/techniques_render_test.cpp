@@ -19,6 +19,7 @@
 #include <glm/gtc/matrix_transform.hpp>
 
 #include "plugins/registry.h"
+#include "render/depth_fixture.h"
 #include "render/render.h"
 #include "scene/builtin.h"
 #include "shaders_cpp/exact.h"
@@ -63,19 +64,6 @@ std::vector<std::string> relief_techniques() { return sweep::sweep_techniques();
 
 const Texture& depth_texture(const Scene& s) {
   return *s.materials[0].textures.at("depth");
-}
-
-// The scene with its depth map reduced to level 0 (no mips): the searches then sample exactly
-// the field `exact` intersects at every distance, so their error is the search's alone.
-Scene level0_depth(Scene s) {
-  const Texture& d = depth_texture(s);
-  std::vector<float> v(static_cast<size_t>(d.width(0)) * d.height(0));
-  for (int y = 0; y < d.height(0); ++y)
-    for (int x = 0; x < d.width(0); ++x)
-      v[static_cast<size_t>(y) * d.width(0) + x] = d.fetch_r(0, x, y);
-  s.materials[0].textures["depth"] = std::make_shared<Texture>(
-      Texture::from_floats(d.format(), d.width(0), d.height(0), v.data()));
-  return s;
 }
 
 bool covered(const Framebuffer& fb, size_t i) {
