@@ -41,7 +41,9 @@
   X(cone_glsl, "cone.glsl")                     \
   X(cone_frag, "cone.frag")                     \
   X(cone_quad_frag, "cone_quad.frag")           \
-  X(relaxed_cone_frag, "relaxed_cone.frag")
+  X(relaxed_cone_frag, "relaxed_cone.frag")     \
+  X(shadow_map_glsl, "shadow_map.glsl")         \
+  X(depth_only_frag, "depth_only.frag")
 
 RELIEF_SHADER_LIST(RELIEF_EMBED)
 

@@ -5,6 +5,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <functional>
 #include <map>
 #include <string>
@@ -111,6 +112,7 @@ struct Locations {
   } lights[kMaxLights];
   GLint params = -1, base_color = -1, specular = -1, shininess = -1, has_texture = -1;
   GLint texture_sampler = -1;  // cone.glsl: (filter, wrap_u, wrap_v) per slot, for texelFetch
+  GLint tri_base = -1;         // common.glsl: the draw's first triangle in TrianglePlanesBuffer
 };
 
 Locations find_locations(GLuint p) {
@@ -137,6 +139,7 @@ Locations find_locations(GLuint p) {
   l.shininess = loc("material.shininess");
   l.has_texture = loc("has_texture[0]");
   l.texture_sampler = loc("texture_sampler[0]");
+  l.tri_base = loc("tri_base");
   return l;
 }
 
@@ -204,7 +207,21 @@ struct DrawRange {
   GLsizei count;
   size_t index_offset;
   GLint base_vertex;
+  GLint first_triangle;  // index of its first triangle in the TrianglePlanesBuffer
 };
+
+// common.glsl's TrianglePlanesBuffer: per triangle a header (first part's offset, part count, two
+// unused; ints stored bit for bit), then the parts: (x0, y0) as ints, the corners (x, y) x 3 and
+// the CPU rasterizer's planes (depth, 1/w, the 16 varyings times 1/w), three floats each.
+constexpr GLuint kTrianglePlanesBinding = 3;
+constexpr int kTriangleHeader = 4;
+constexpr int kPartFloats = 8 + (2 + varying::kCount) * 3;
+
+float int_bits(int32_t v) {
+  float f;
+  std::memcpy(&f, &v, sizeof f);
+  return f;
+}
 
 // The texture and sampler objects per material and slot, and the exact twin's max-mip buffer.
 struct DrawTextures {
@@ -270,9 +287,10 @@ class GlBackend final : public Backend {
                      const std::vector<const Program*>& programs, const DrawTextures& textures,
                      const std::vector<const Program*>& fresh, bool count, RenderResult& result);
   // Uploads the draws `keep` accepts (plus one degenerate warm-up triangle at the end).
+  // Also uploads each triangle's CPU interpolation planes for a width x height target.
   std::vector<DrawRange> upload_draws(const std::vector<PreparedDraw>& prepared,
-                                      const std::vector<const Program*>& programs,
-                                      size_t* warmup_offset);
+                                      const std::vector<const Program*>& programs, int width,
+                                      int height, size_t* warmup_offset);
   // Sets a program's frame and material uniforms, textures and state for material mi.
   void bind_material(const Program& p, int mi, const Plan& plan, const FrameUniforms& frame,
                      const DrawTextures& textures, BindCache& cache);
@@ -307,6 +325,7 @@ class GlBackend final : public Backend {
   };
   std::map<int, ShadowTexture> shadow_textures_;
   GLuint shadow_fbo_ = 0, shadow_views_ = 0;
+  GLuint triangle_planes_ = 0;
 };
 
 GlBackend::~GlBackend() {
@@ -325,6 +344,7 @@ GlBackend::~GlBackend() {
   for (auto& [k, t] : shadow_textures_) glDeleteTextures(1, &t.id);
   if (shadow_fbo_) glDeleteFramebuffers(1, &shadow_fbo_);
   if (shadow_views_) glDeleteBuffers(1, &shadow_views_);
+  if (triangle_planes_) glDeleteBuffers(1, &triangle_planes_);
 }
 
 Result<const Program*> GlBackend::program_for(const std::string& plugin, EffectMask effects,
@@ -584,7 +604,7 @@ void set_material_uniforms(GLuint p, const Locations& l, const MaterialUniforms&
 
 std::vector<DrawRange> GlBackend::upload_draws(const std::vector<PreparedDraw>& prepared,
                                                const std::vector<const Program*>& programs,
-                                               size_t* warmup_offset) {
+                                               int width, int height, size_t* warmup_offset) {
   std::vector<DrawRange> ranges;
   size_t nv = 0, ni = 0;
   for (const PreparedDraw& d : prepared) {
@@ -592,15 +612,39 @@ std::vector<DrawRange> GlBackend::upload_draws(const std::vector<PreparedDraw>& 
     ni += d.indices ? d.indices->size() : 0;
   }
   std::vector<glm::vec4> clip;
-  std::vector<float> vary;
+  std::vector<float> vary, tri, parts;
   std::vector<uint32_t> idx;
+  CpuTrianglePlanes planes;
   clip.reserve(nv);
   vary.reserve(nv * varying::kCount);
   idx.reserve(ni + 3);
   for (const PreparedDraw& d : prepared) {
     if (!d.indices || d.indices->empty() || !programs[d.material]) continue;
     ranges.push_back({d.material, static_cast<GLsizei>(d.indices->size()), idx.size(),
-                      static_cast<GLint>(clip.size())});
+                      static_cast<GLint>(clip.size()),
+                      static_cast<GLint>(tri.size() / kTriangleHeader)});
+    // The CPU's planes of every triangle it draws unclipped: the twins interpolate with them,
+    // so both backends shade the same numbers (GL's own interpolation differs by ~1e-6, which
+    // cone steps and relaxed-cone shadows turn into different hits).
+    const std::vector<uint32_t>& ix = *d.indices;
+    for (size_t i = 0; i + 2 < ix.size(); i += 3) {
+      const size_t base = tri.size();
+      tri.resize(base + kTriangleHeader, 0.0f);
+      if (std::max({ix[i], ix[i + 1], ix[i + 2]}) >= d.clip.size()) continue;
+      const glm::vec4 c[3] = {d.clip[ix[i]], d.clip[ix[i + 1]], d.clip[ix[i + 2]]};
+      const float* v[3] = {&d.varyings[ix[i] * varying::kCount],
+                           &d.varyings[ix[i + 1] * varying::kCount],
+                           &d.varyings[ix[i + 2] * varying::kCount]};
+      if (!cpu_triangle_planes(c, v, varying::kCount, width, height, planes)) continue;
+      tri[base] = int_bits(static_cast<int32_t>(parts.size()));  // rebased below
+      tri[base + 1] = int_bits(static_cast<int32_t>(planes.parts.size()));
+      for (const CpuTrianglePlanes::Part& part : planes.parts) {
+        parts.push_back(int_bits(part.x0));
+        parts.push_back(int_bits(part.y0));
+        parts.insert(parts.end(), part.corner, part.corner + 6);
+        parts.insert(parts.end(), part.planes.begin(), part.planes.end());
+      }
+    }
     clip.insert(clip.end(), d.clip.begin(), d.clip.end());
     vary.insert(vary.end(), d.varyings.begin(), d.varyings.end());
     idx.insert(idx.end(), d.indices->begin(), d.indices->end());
@@ -615,6 +659,18 @@ std::vector<DrawRange> GlBackend::upload_draws(const std::vector<PreparedDraw>& 
                     GL_STREAM_DRAW);
   glNamedBufferData(ebo_, static_cast<GLsizeiptr>(idx.size() * sizeof(uint32_t)), idx.data(),
                     GL_STREAM_DRAW);
+  // Parts after the headers: rebase the headers' offsets.
+  for (size_t h = 0; h < tri.size(); h += kTriangleHeader) {
+    int32_t first;
+    std::memcpy(&first, &tri[h], sizeof first);
+    tri[h] = int_bits(first + static_cast<int32_t>(tri.size()));
+  }
+  tri.insert(tri.end(), parts.begin(), parts.end());
+  tri.resize(std::max(tri.size(), static_cast<size_t>(kTriangleHeader)));
+  if (!triangle_planes_) glCreateBuffers(1, &triangle_planes_);
+  glNamedBufferData(triangle_planes_, static_cast<GLsizeiptr>(tri.size() * sizeof(float)),
+                    tri.data(), GL_STREAM_DRAW);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kTrianglePlanesBinding, triangle_planes_);
   return ranges;
 }
 
@@ -690,6 +746,7 @@ void warm_up(const std::vector<const Program*>& fresh, const std::vector<const P
     if (!programs[mi] || std::find(fresh.begin(), fresh.end(), programs[mi]) == fresh.end())
       continue;
     bind(*programs[mi], static_cast<int>(mi));
+    glProgramUniform1i(programs[mi]->id, programs[mi]->loc.tri_base, -1);  // no planes
     glDrawElementsBaseVertex(
         GL_TRIANGLES, 3, GL_UNSIGNED_INT,
         reinterpret_cast<const void*>(static_cast<uintptr_t>(warmup_offset * sizeof(uint32_t))), 0);
@@ -700,9 +757,12 @@ void warm_up(const std::vector<const Program*>& fresh, const std::vector<const P
   *compile_ms += ms_since(t);
 }
 
-void draw_ranges(const std::vector<DrawRange>& ranges, const std::function<void(int)>& bind) {
+void draw_ranges(const std::vector<DrawRange>& ranges, const std::vector<const Program*>& programs,
+                 const std::function<void(const Program&, int)>& bind) {
   for (const DrawRange& r : ranges) {
-    bind(r.material);
+    const Program& p = *programs[r.material];
+    bind(p, r.material);
+    glProgramUniform1i(p.id, p.loc.tri_base, r.first_triangle);
     glDrawElementsBaseVertex(
         GL_TRIANGLES, r.count, GL_UNSIGNED_INT,
         reinterpret_cast<const void*>(static_cast<uintptr_t>(r.index_offset * sizeof(uint32_t))),
@@ -747,7 +807,8 @@ Status GlBackend::shadow_pass(const Scene& scene, const Plan& plan, const PassPl
                                   }),
                    prepared.end());
     size_t warmup_offset = 0;
-    const std::vector<DrawRange> ranges = upload_draws(prepared, programs, &warmup_offset);
+    const std::vector<DrawRange> ranges =
+        upload_draws(prepared, programs, s.size, s.size, &warmup_offset);
     glNamedFramebufferTextureLayer(shadow_fbo_, GL_DEPTH_ATTACHMENT, t.id, 0, f);
     const GLenum status = glCheckNamedFramebufferStatus(shadow_fbo_, GL_DRAW_FRAMEBUFFER);
     if (status != GL_FRAMEBUFFER_COMPLETE)
@@ -764,7 +825,7 @@ Status GlBackend::shadow_pass(const Scene& scene, const Plan& plan, const PassPl
     glBeginQuery(GL_TIME_ELAPSED, query_);
     const float depth_clear = 0.0f;
     glClearNamedFramebufferfv(shadow_fbo_, GL_DEPTH, 0, &depth_clear);
-    draw_ranges(ranges, [&](int mi) { bind(*programs[mi], mi); });
+    draw_ranges(ranges, programs, bind);
     PassStats face;
     end_pass(face, t_pass);
     pass_ms += face.ms;
@@ -943,7 +1004,7 @@ Result<RenderResult> GlBackend::render(const Scene& scene, const Plan& plan,
   frame.width = w;
   frame.height = h;
   size_t warmup_offset = 0;
-  const std::vector<DrawRange> ranges = upload_draws(prepared, programs, &warmup_offset);
+  const std::vector<DrawRange> ranges = upload_draws(prepared, programs, w, h, &warmup_offset);
   glBindFramebuffer(GL_FRAMEBUFFER, fbo_);
   glViewport(0, 0, w, h);
   glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
@@ -963,7 +1024,7 @@ Result<RenderResult> GlBackend::render(const Scene& scene, const Plan& plan,
   }
   const float depth_clear = 0.0f;
   glClearNamedFramebufferfv(fbo_, GL_DEPTH, 0, &depth_clear);
-  draw_ranges(ranges, [&](int mi) { bind(*programs[mi], mi); });
+  draw_ranges(ranges, programs, bind);
   PassStats main;
   main.name = "main";
   end_pass(main, t_pass);

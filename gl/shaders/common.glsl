@@ -30,6 +30,12 @@ layout(origin_upper_left) in vec4 gl_FragCoord;
 #if RELIEF_WRITES_DEPTH && RELIEF_DEPTH_FARTHER
 layout(depth_less) out float gl_FragDepth;
 #endif
+#if !RELIEF_WRITES_DEPTH
+// The CPU tests depth before shading when the shader writes none (DepthTest::kEarly); GL would
+// run a shader with side effects (the RELIEF_COUNT atomics) before the test, counting fragments
+// the CPU never shades.
+layout(early_fragment_tests) in;
+#endif
 
 // ---- plugins/plugin.h ----
 const int kMaxParams = 32;
@@ -90,7 +96,62 @@ layout(location = 0) out vec4 out_color;
 layout(location = 1) out vec4 out_aov0;  // uv.xy, hit_depth, steps
 layout(location = 2) out vec4 out_aov1;  // normal.xyz
 
-float varying_at(int k) { return vary[k >> 2][k & 3]; }
+// The CPU rasterizer's interpolation (rasterizer/pipeline.h cpu_triangle_planes): per triangle
+// of the draw a header (offset of its first part, number of parts: the triangles the CPU's setup
+// makes of it after clipping), then per part (x0, y0), its corners in pixels and (c, dx, dy) of
+// the planes depth, 1/w and the 16 varyings times 1/w, evaluated as the CPU does at whole-pixel
+// offsets from (x0, y0), in the same float operations. A pixel of a clipped triangle takes the
+// part whose corners hold its centre (helper pixels: the nearest). tri_base < 0 (warm-up draws)
+// or no part falls back to GL's own interpolation.
+const int kTriangleHeader = 4;
+const int kPartFloats = 8 + (2 + kCount) * 3;
+layout(std430, binding = 3) readonly buffer TrianglePlanesBuffer { float tri_planes[]; };
+uniform int tri_base;
+float exact_vary[kCount];
+float exact_z;
+bool use_exact = false;
+
+float edge_side(vec2 a, vec2 b, vec2 p) { return (b.x - a.x) * (p.y - a.y) - (b.y - a.y) * (p.x - a.x); }
+
+void interpolate_like_cpu() {
+  use_exact = false;
+  if (tri_base < 0) return;
+  int h = (tri_base + gl_PrimitiveID) * kTriangleHeader;
+  int first = floatBitsToInt(tri_planes[h]), n = floatBitsToInt(tri_planes[h + 1]);
+  if (n <= 0) return;
+  int o = first;
+  if (n > 1) {
+    vec2 pc = floor(gl_FragCoord.xy) + 0.5;
+    float best = -3.0e38;
+    for (int i = 0; i < n; ++i) {
+      int q = first + i * kPartFloats;
+      vec2 a = vec2(tri_planes[q + 2], tri_planes[q + 3]);
+      vec2 b = vec2(tri_planes[q + 4], tri_planes[q + 5]);
+      vec2 c = vec2(tri_planes[q + 6], tri_planes[q + 7]);
+      float m = min(min(edge_side(a, b, pc), edge_side(b, c, pc)), edge_side(c, a, pc));
+      if (m > best) {
+        best = m;
+        o = q;
+      }
+    }
+  }
+  float fx = float(int(gl_FragCoord.x) - floatBitsToInt(tri_planes[o]));
+  float fy = float(int(gl_FragCoord.y) - floatBitsToInt(tri_planes[o + 1]));
+  o += 8;
+  precise float z = (tri_planes[o] + tri_planes[o + 1] * fx) + tri_planes[o + 2] * fy;
+  exact_z = clamp(z, 0.0, 1.0);
+  precise float iw = (tri_planes[o + 3] + tri_planes[o + 4] * fx) + tri_planes[o + 5] * fy;
+  iw = iw < 1e-30 ? 1e-30 : iw;  // helper lanes far outside may pass the horizon
+  precise float wv = 1.0 / iw;
+  for (int k = 0; k < kCount; ++k) {
+    int c = o + 6 + 3 * k;
+    precise float v = ((tri_planes[c] + tri_planes[c + 1] * fx) + tri_planes[c + 2] * fy) * wv;
+    exact_vary[k] = v;
+  }
+  use_exact = true;
+}
+
+float varying_at(int k) { return use_exact ? exact_vary[k] : vary[k >> 2][k & 3]; }
 
 // ---- shaders_cpp/vec.h ----
 // Normalises; a zero vector stays zero (no NaN). GLSL's normalize() would return NaN.
@@ -143,6 +204,7 @@ ShadeOut shade_out_default() {
 }
 
 FragIn load_fragment() {
+  interpolate_like_cpu();
   FragIn f;
   f.position = vec3(varying_at(kPosition), varying_at(kPosition + 1), varying_at(kPosition + 2));
   f.normal = vec3(varying_at(kNormal), varying_at(kNormal + 1), varying_at(kNormal + 2));
@@ -155,7 +217,7 @@ FragIn load_fragment() {
   f.duv_dy = fy - (right ? cross_ : vec2(0.0));
   f.quadric = vec2(varying_at(kQuadric), varying_at(kQuadric + 1));
   f.tile_scale = vec2(varying_at(kTileScale), varying_at(kTileScale + 1));
-  f.frag_z = gl_FragCoord.z;
+  f.frag_z = use_exact ? exact_z : gl_FragCoord.z;
   f.front_facing = gl_FrontFacing;
   return f;
 }
