@@ -127,14 +127,15 @@ Result<Scene> make_interpenetration_scene() {
   s.instances.push_back({floor, kFloor, glm::mat4(1.0f)});
   // Spheres whose centres sit at the polygon (y = 0), half way into the relief (y = -0.06) and
   // just above it: the relief hides a different cap of each.
-  const int ball = add_mesh(s, parametric_mesh("ball", sphere_surface(0.35f), 32, 16, {2, 1}));
-  s.instances.push_back({ball, kRed, translation({-1.1f, 0.0f, 0.4f})});
-  s.instances.push_back({ball, kGreen, translation({-0.3f, -0.06f, 0.9f})});
-  s.instances.push_back({ball, kRed, translation({0.4f, 0.05f, 0.2f})});
-  const int tube =
-      add_mesh(s, parametric_mesh("tube", cylinder_surface(0.4f, 1.2f), 48, 6, {2, 1}));
-  s.instances.push_back({tube, kRings, translation({1.1f, 0.0f, -0.6f})});
-  s.instances.push_back({tube, kFlutes, translation({1.1f, 0.0f, -0.6f})});
+  // One mesh per instance: a glTF mesh carries its material, so shared meshes would not
+  // round-trip through `relief export` as they are.
+  const Mesh ball = parametric_mesh("ball", sphere_surface(0.35f), 32, 16, {2, 1});
+  s.instances.push_back({add_mesh(s, ball), kRed, translation({-1.1f, 0.0f, 0.4f})});
+  s.instances.push_back({add_mesh(s, ball), kGreen, translation({-0.3f, -0.06f, 0.9f})});
+  s.instances.push_back({add_mesh(s, ball), kRed, translation({0.4f, 0.05f, 0.2f})});
+  const Mesh tube = parametric_mesh("tube", cylinder_surface(0.4f, 1.2f), 48, 6, {2, 1});
+  s.instances.push_back({add_mesh(s, tube), kRings, translation({1.1f, 0.0f, -0.6f})});
+  s.instances.push_back({add_mesh(s, tube), kFlutes, translation({1.1f, 0.0f, -0.6f})});
 
   s.lights.push_back(sun({-0.4f, -0.8f, -0.5f}, 1.3f));
   s.cameras.push_back(look("front", {0.2f, 1.9f, 3.6f}, {0.2f, 0.1f, 0.0f}, 45.0f));
