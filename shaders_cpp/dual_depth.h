@@ -1,0 +1,89 @@
+// Dual-depth relief textures: Policarpo, Oliveira and Comba, "Real-Time Relief Mapping on
+// Arbitrary Polygonal Surfaces", I3D 2005, section 3.1. Two depth layers over one reference
+// plane: `front` (the depth where the object starts, seen from the plane) and `back` (where it
+// ends). A point at depth t is inside the object when front <= t <= back; texels the object does
+// not cover read front = 1, back = 0 (never inside). Written once over the lane type F (float or
+// F8), with the conventions of shaders_cpp/search.h (a ray at depth t is at uv + ds * t).
+#pragma once
+
+#include "shaders_cpp/search.h"
+#include "shaders_cpp/shadow.h"
+
+namespace relief {
+
+// Inside the object between the two layers.
+template <class F>
+inline mask_t<F> dual_inside(F front, F back, F t) {
+  return (front <= t) & (t <= back);
+}
+
+// Linear search with n steps per lane (t_i = i / n, i = 0..n) for the first sample inside, then m
+// binary halvings between the last outside and the first inside sample. Unlike the single-layer
+// search, depth 1 is not inside by itself: a ray that finds no inside sample misses the object
+// (returned in `miss`, its hit left at uv, depth 0). One step reads both layers: two fetches.
+template <class F, class Front, class Back>
+inline SearchHit<F> dual_depth_search(const Front& front, const Back& back, V2<F> uv, V2<F> ds, F n,
+                                      int m, mask_t<F> active, mask_t<F>& miss) {
+  const F inv_n = F(1.0f) / n;
+  F t_out(0.0f), t_in(0.0f), steps(0.0f), fetches(0.0f);
+  mask_t<F> searching = active, found = false_mask<F>();
+  for (int i = 0; any(searching); ++i) {
+    const F fi = F(static_cast<float>(i));
+    const mask_t<F> last = fi >= n;
+    const F t = select(last, F(1.0f), fi * inv_n);
+    const V2<F> p = uv + ds * t;
+    const mask_t<F> in = searching & dual_inside(sample_depth(front, p, searching),
+                                                 sample_depth(back, p, searching), t);
+    steps += detail::count<F>(searching);
+    fetches += detail::count<F>(searching) * F(2.0f);
+    t_in = select(in, t, t_in);
+    t_out = select(searching & !in, t, t_out);
+    found = found | in;
+    searching = searching & !in & !last;
+  }
+  F lo = t_out, hi = t_in;
+  mask_t<F> refine = found & (hi > lo);
+  for (int i = 0; i < m && any(refine); ++i) {
+    const F mid = (lo + hi) * F(0.5f);
+    const V2<F> p = uv + ds * mid;
+    const mask_t<F> in =
+        dual_inside(sample_depth(front, p, refine), sample_depth(back, p, refine), mid);
+    hi = select(refine & in, mid, hi);
+    lo = select(refine & !in, mid, lo);
+    steps += detail::count<F>(refine);
+    fetches += detail::count<F>(refine) * F(2.0f);
+  }
+  miss = active & !found;
+  const F t_hit = select(found, hi, F(0.0f));
+  return {uv + ds * t_hit, t_hit, steps, fetches};
+}
+
+// Hard self-shadow of the hit (uv, t) toward a light with tangent-space step dl and L.z = lz: the
+// ray (uv + dl * s, t - s), s = 1/n, 2/n, ... < t, is blocked where it is inside the object by
+// more than `bias` (front < t - s - bias and t - s + bias < back). Visibility 1 lit, 0 blocked
+// (or lz <= 0); inactive lanes 1. Two fetches per step.
+template <class F, class Front, class Back>
+inline ShadowResult<F> dual_depth_shadow(const Front& front, const Back& back, V2<F> uv, F t,
+                                         V2<F> dl, F lz, int n, float bias, mask_t<F> active) {
+  F steps(0.0f), fetches(0.0f);
+  const F inv_n = F(1.0f) / F(static_cast<float>(n));
+  const mask_t<F> lit_side = lz > F(0.0f);
+  F vis = select(active & !lit_side, F(0.0f), F(1.0f));
+  mask_t<F> marching = active & lit_side;
+  for (int i = 1; any(marching); ++i) {
+    const F s = F(static_cast<float>(i)) * inv_n;
+    marching = marching & (s < t);
+    if (none(marching)) break;
+    const V2<F> p = uv + dl * s;
+    const F depth = t - s;
+    const mask_t<F> blocked = marching & (sample_depth(front, p, marching) < depth - F(bias)) &
+                              (sample_depth(back, p, marching) > depth + F(bias));
+    steps += detail::count<F>(marching);
+    fetches += detail::count<F>(marching) * F(2.0f);
+    vis = select(blocked, F(0.0f), vis);
+    marching = marching & !blocked;
+  }
+  return {vis, steps, fetches};
+}
+
+}  // namespace relief
