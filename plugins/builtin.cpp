@@ -17,6 +17,7 @@ void register_builtin_plugins(PluginRegistry& r) {
            &kConeQuadPlugin,
            &kRelaxedConePlugin,
            &kReliefQuadricPlugin,
+           &kReliefDualPlugin,
        }) {
     CHECK(r.add(p).ok());
   }

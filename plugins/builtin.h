@@ -16,5 +16,6 @@ extern const PluginDescriptor kConePlugin;
 extern const PluginDescriptor kConeQuadPlugin;
 extern const PluginDescriptor kRelaxedConePlugin;
 extern const PluginDescriptor kReliefQuadricPlugin;
+extern const PluginDescriptor kReliefDualPlugin;
 
 }  // namespace relief
