@@ -7,6 +7,8 @@
 #include <string>
 #include <vector>
 
+#include <gtest/gtest.h>
+
 #include "render/render.h"
 
 namespace relief::test {
@@ -62,6 +64,26 @@ struct MaskDiff {
   int band = 0;       // silhouette band size
   double ratio() const { return band > 0 ? static_cast<double>(differing) / band : 0.0; }
 };
+
+// The coverage of `scene` rendered on the CPU at width x height with `technique` (empty: the
+// scene's own), shadow maps off; an empty mask (and a test failure) when planning or rendering
+// fails.
+inline Mask render_coverage(const Scene& scene, const std::string& technique, int width,
+                            int height) {
+  RenderOptions opt;
+  opt.width = width;
+  opt.height = height;
+  opt.threads = 2;
+  opt.technique = technique;
+  opt.shadows = false;
+  Result<Plan> plan = make_plan(scene, opt);
+  EXPECT_TRUE(plan.ok()) << technique << ": " << plan.status().message();
+  if (!plan.ok()) return {};
+  Result<RenderResult> r = make_cpu_backend(2)->render(scene, *plan, opt);
+  EXPECT_TRUE(r.ok()) << technique;
+  if (!r.ok()) return {};
+  return coverage(r->framebuffer);
+}
 
 inline MaskDiff compare_masks(const Mask& a, const Mask& b, int radius = 2) {
   MaskDiff d;

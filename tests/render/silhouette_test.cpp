@@ -25,19 +25,7 @@ using test::Mask;
 using test::MaskDiff;
 
 Mask render_coverage(const Scene& scene, const std::string& technique) {
-  RenderOptions opt;
-  opt.width = kWidth;
-  opt.height = kHeight;
-  opt.threads = 2;
-  opt.technique = technique;
-  opt.shadows = false;
-  Result<Plan> plan = make_plan(scene, opt);
-  EXPECT_TRUE(plan.ok()) << technique << ": " << plan.status().message();
-  if (!plan.ok()) return {};
-  Result<RenderResult> r = make_cpu_backend(2)->render(scene, *plan, opt);
-  EXPECT_TRUE(r.ok()) << technique;
-  if (!r.ok()) return {};
-  return coverage(r->framebuffer);
+  return test::render_coverage(scene, technique, kWidth, kHeight);
 }
 
 // The depth map without its mips, so the shader (which picks a LOD per quad) and the displaced
