@@ -11,6 +11,7 @@
 #include "rasterizer/check.h"
 #include "scene/builtin_bending.h"
 #include "scene/builtin_curved.h"
+#include "scene/builtin_impostor.h"
 #include "scene/builtin_room.h"
 #include "scene/builtin_showcase.h"
 #include "scene/mesh_prep.h"
@@ -234,6 +235,7 @@ const std::vector<BuiltinSceneInfo>& builtin_scenes() {
       {"interpenetration",
        "spheres through a relief floor and two coincident relief cylinders (depth correction)"},
       {"teatime", "a relief teapot on a relief floor under a shadow-casting spot light"},
+      {"impostor", "a sphere as dual-depth relief textures on one quad, relief_dual (impostor)"},
   };
   return scenes;
 }
@@ -249,6 +251,7 @@ Result<Scene> make_builtin_scene(const std::string& name) {
   if (name == "bending") return make_bending_scene();
   if (name == "interpenetration") return make_interpenetration_scene();
   if (name == "teatime") return make_teatime_scene();
+  if (name == "impostor") return make_impostor_scene();
   if (name == "sphere" || name == "cylinder" || name == "torus" || name == "teapot")
     return make_curved_scene(name);
   std::string known;

@@ -70,6 +70,7 @@ TEST(Plan, EveryBuiltinSceneListsExactlyTheExpectedPasses) {
       {"teapot", {"main"}},
       {"interpenetration", {"main"}},          // its sun casts none
       {"teatime", {"shadow:spot", "main"}},  // the fill light casts none
+      {"impostor", {"main"}},                // its sun casts none
   };
   for (const BuiltinSceneInfo& info : builtin_scenes()) {
     Result<Scene> s = make_builtin_scene(info.name);
