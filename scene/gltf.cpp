@@ -195,6 +195,7 @@ class Reader {
   static Result<json> parse_json(const std::string& text) {
     if (text.empty()) return json::object();
     json j = json::parse(text, nullptr, false);
+    if (!j.is_discarded() && j.is_null()) return json::object();  // tinygltf: no extensions
     if (j.is_discarded() || !j.is_object()) return Status::error("malformed extension JSON");
     return j;
   }
