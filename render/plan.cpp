@@ -172,6 +172,14 @@ Result<Plan> make_plan(const Scene& scene, const RenderOptions& opt) {
   if (opt.camera < 0 || opt.camera >= static_cast<int>(scene.cameras.size()))
     return Status::usage("camera index " + std::to_string(opt.camera) +
                          " out of range (scene has " + std::to_string(scene.cameras.size()) + ")");
+  uint64_t triangles = 0;
+  for (const Instance& inst : scene.instances)
+    if (inst.mesh >= 0 && inst.mesh < static_cast<int>(scene.meshes.size()))
+      triangles += scene.meshes[inst.mesh].indices.size() / 3;
+  if (triangles > kMaxSceneTriangles)
+    return Status::error("scene '" + scene.name + "': " + std::to_string(triangles) +
+                         " triangles to draw, more than the limit of " +
+                         std::to_string(kMaxSceneTriangles));
   const PluginRegistry& reg = PluginRegistry::global();
   if (!opt.technique.empty() && !reg.find(opt.technique))
     return Status::usage("unknown technique '" + opt.technique + "' (see `relief techniques`)");

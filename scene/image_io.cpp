@@ -84,6 +84,10 @@ Status open_input(const std::string& path, Input& out) {
     return fail(path, "image is " + std::to_string(spec.width) + "x" + std::to_string(spec.height) +
                           ", larger than the limit of " + std::to_string(kMaxImageSide) +
                           " on a side");
+  if (static_cast<long long>(spec.width) * spec.height > kMaxImageTexels)
+    return fail(path, "image is " + std::to_string(spec.width) + "x" + std::to_string(spec.height) +
+                          ", more than the limit of " + std::to_string(kMaxImageTexels) +
+                          " texels");
   if (spec.depth > 1) return fail(path, "volume images are not supported");
   if (spec.nchannels < 1) return fail(path, "image has no channels");
   out.width = spec.width;

@@ -14,8 +14,10 @@
 
 namespace relief {
 
-// Files larger than this on either side are refused.
+// Files larger than this on either side, or with more texels in all, are refused when the header
+// is read, before any pixel memory is allocated (docs/errors.md, "Limits").
 inline constexpr int kMaxImageSide = 16384;
+inline constexpr long long kMaxImageTexels = 64LL * 1024 * 1024;
 
 struct TextureLoadOptions {
   // kSRGB: colour channels are sRGB-encoded and decode to linear when sampled (8-bit formats keep

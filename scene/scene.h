@@ -86,6 +86,10 @@ struct Camera {
 
 struct SceneAnimation;  // scene/animation.h
 
+// The most triangles one frame draws (each instance counts its mesh's triangles); make_plan
+// refuses a scene with more, before anything is allocated for it (docs/errors.md, "Limits").
+inline constexpr uint64_t kMaxSceneTriangles = uint64_t{1} << 23;
+
 struct Scene {
   std::string name;
   std::vector<Mesh> meshes;
