@@ -31,6 +31,48 @@ std::vector<const PluginDescriptor*> PluginRegistry::all() const {
   return out;
 }
 
+namespace {
+
+// Each parameter: a unique non-empty name, a known type, finite bounds min <= max with the default
+// inside (an enum: non-empty choices, the default one of them); each texture slot a unique name.
+Status check_schema(const PluginDescriptor& p) {
+  const std::string where = std::string("plugin '") + p.name + "'";
+  for (int i = 0; i < p.num_params; ++i) {
+    const ParamSpec& s = p.params[i];
+    const std::string at = where + " parameter " + std::to_string(i);
+    if (s.name == nullptr || s.name[0] == '\0') return Status::error(at + " has no name");
+    for (int j = 0; j < i; ++j)
+      if (std::strcmp(p.params[j].name, s.name) == 0)
+        return Status::error(where + " declares parameter '" + s.name + "' twice");
+    const std::string named = where + " parameter '" + s.name + "'";
+    if (static_cast<int>(s.type) > static_cast<int>(ParamType::kEnum))
+      return Status::error(named + " has an unknown type " + std::to_string(int(s.type)));
+    if (!std::isfinite(s.default_value) || !std::isfinite(s.min_value) ||
+        !std::isfinite(s.max_value) || s.min_value > s.max_value ||
+        s.default_value < s.min_value || s.default_value > s.max_value)
+      return Status::error(named + ": expected finite min <= default <= max");
+    if (s.type == ParamType::kEnum) {
+      if (s.choices == nullptr || s.choices[0] == '\0')
+        return Status::error(named + ": an enum needs choices \"a|b|...\"");
+      int n = 1;
+      for (const char* c = s.choices; *c; ++c) n += *c == '|';
+      if (s.default_value != std::floor(s.default_value) || s.default_value >= n)
+        return Status::error(named + ": the default must index one of the choices");
+    }
+  }
+  for (int i = 0; i < p.num_textures; ++i) {
+    const char* n = p.textures[i].name;
+    if (n == nullptr || n[0] == '\0')
+      return Status::error(where + " texture slot " + std::to_string(i) + " has no name");
+    for (int j = 0; j < i; ++j)
+      if (std::strcmp(p.textures[j].name, n) == 0)
+        return Status::error(where + " declares texture slot '" + n + "' twice");
+  }
+  return {};
+}
+
+}  // namespace
+
 Status PluginRegistry::add(const PluginDescriptor* p) {
   if (p == nullptr) return Status::error("plugin descriptor is null");
   if (p->abi_version != kPluginAbiVersion)
@@ -44,6 +86,7 @@ Status PluginRegistry::add(const PluginDescriptor* p) {
   if (p->num_textures < 0 || p->num_textures > kMaxTextureSlots ||
       (p->num_textures > 0 && !p->textures))
     return Status::error(std::string("plugin '") + p->name + "' has malformed texture slots");
+  RELIEF_RETURN_IF_ERROR(check_schema(*p));
   if (plugins_.count(p->name))
     return Status::error(std::string("a plugin named '") + p->name + "' is already registered");
   plugins_[p->name] = p;
@@ -127,6 +170,8 @@ Result<float> parse_value(const PluginDescriptor& plugin, const ParamSpec& p,
   const double v = std::strtod(text.c_str(), &end);
   if (text.empty() || end != text.c_str() + text.size() || errno == ERANGE)
     return Status::usage(where + ": expected a number, got '" + text + "'");
+  if (std::isfinite(v) && std::abs(v) > 3.4e38)  // no float holds it (the cast would be undefined)
+    return Status::usage(where + ": " + text + " is outside " + range_text(p));
   Status s = check_value(plugin, p, static_cast<float>(v));
   if (!s.ok()) return Status::usage(s.message());
   return static_cast<float>(v);
