@@ -1,4 +1,7 @@
 #include <cstdio>
+#include <exception>
+#include <new>
+#include <string>
 #include <vector>
 
 #include "apps/commands.h"
@@ -9,6 +12,17 @@ int fail(const std::string& message, int exit_code) {
   std::fprintf(stderr, "relief: %s\n", message.c_str());
   return exit_code;
 }
+
+namespace {
+
+// Newlines (CLI11 and library messages can hold some) become "; ".
+std::string one_line(std::string s) {
+  for (size_t i = s.find('\n'); i != std::string::npos; i = s.find('\n', i))
+    s.replace(i, 1, i + 1 < s.size() ? "; " : "");
+  return s;
+}
+
+}  // namespace
 
 int run(int argc, char** argv) {
   CLI::App app{"relief: per-fragment displacement (relief) mapping renderer"};
@@ -30,11 +44,19 @@ int run(int argc, char** argv) {
   } catch (const CLI::CallForAllHelp& e) {
     return app.exit(e);
   } catch (const CLI::ParseError& e) {
-    // One line, usage exit code.
-    return fail(e.what(), 2);
+    // One line, usage exit code; a first word that is no subcommand is named.
+    if (argc > 1 && argv[1][0] != '-' && app.get_subcommands().empty())
+      return fail(std::string("unknown command '") + argv[1] + "' (try --help)", 2);
+    return fail(one_line(e.what()), 2);
   }
-  for (auto& a : actions)
-    if (a) return a();
+  try {
+    for (auto& a : actions)
+      if (a) return a();
+  } catch (const std::bad_alloc&) {  // a request the limits let through but memory does not hold
+    return fail("out of memory (see docs/errors.md, \"Limits\")", 1);
+  } catch (const std::exception& e) {
+    return fail(one_line(e.what()), 1);
+  }
   return fail("no subcommand given (try --help)", 2);
 }
 
