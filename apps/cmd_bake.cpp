@@ -41,6 +41,9 @@ struct BakeArgs {
   bool wrap = false;
   bool bilinear = false;
   int threads = 0;
+  bool dual = false;  // --dual: the input is a glTF mesh, -o a prefix (apps/cmd_bake_dual.cpp)
+  int size = 256;
+  float grow = 1.0f;
 };
 
 std::string lower_ext(const std::string& path) {
@@ -80,7 +83,15 @@ class ProgressBar {
   int last_ = -1;
 };
 
+}  // namespace
+
+int run_bake_dual(const std::string& mesh_path, const std::string& prefix, int size, float grow,
+                  int threads);
+
+namespace {
+
 int run_bake(const BakeArgs& a) {
+  if (a.dual) return run_bake_dual(a.input, a.output, a.size, a.grow, a.threads);
   if (a.normal == !a.cone.empty())
     return fail("bake: choose exactly one of --normal or --cone KIND", 2);
   if (!(a.depth_scale > 0.0f) || !std::isfinite(a.depth_scale))
@@ -212,6 +223,12 @@ void register_bake(CLI::App& app, Action& action) {
   sub->add_flag("--bilinear", args->bilinear,
                 "Conservative/quad cones safe for the bilinear surface (the cone plugins' maps)");
   sub->add_option("--threads", args->threads, "Worker threads (0: all cores)");
+  sub->add_flag("--dual", args->dual,
+                "Dual-depth relief textures of a glTF mesh: -o PREFIX gets PREFIX_front.exr, "
+                "PREFIX_back.exr and their normal maps");
+  sub->add_option("--size", args->size, "--dual: map size in texels (default 256)");
+  sub->add_option("--grow", args->grow,
+                  "--dual: the maps' square over the mesh's x-y bounds, times this (>= 1)");
   sub->callback([&action, args] { action = [args] { return run_bake(*args); }; });
 }
 
