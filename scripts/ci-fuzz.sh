@@ -1,0 +1,42 @@
+#!/usr/bin/env bash
+# Builds the libFuzzer targets (tests/fuzz) with clang-14 + ASan + UBSan in their own build folder
+# and runs each for FUZZ_SECONDS (default 60) from its seed corpus tests/fuzz/<target>/. Any crash,
+# leak, sanitizer report or timeout fails the script; libFuzzer leaves the reproducer in
+# $BUILD/crashes/. Usage: scripts/ci-fuzz.sh [build-dir]   (default build-fuzz)
+set -euo pipefail
+cd "$(dirname "$0")/.."
+BUILD=${1:-build-fuzz}
+SECONDS_PER_TARGET=${FUZZ_SECONDS:-60}
+JOBS=${JOBS:-$(nproc)}
+TARGETS=(gltf image cli plugin_schema)
+CXX=${FUZZ_CXX:-clang++-14}
+command -v "$CXX" >/dev/null || { echo "ci-fuzz: $CXX not found (scripts/install-deps.sh installs it)"; exit 1; }
+
+t0=$(date +%s)
+cmake -S . -B "$BUILD" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_COMPILER="$CXX" \
+  -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g1" -DRELIEF_BUILD_TESTS=OFF -DRELIEF_BUILD_BENCH=OFF \
+  -DRELIEF_BUILD_FUZZ=ON -DRELIEF_SANITIZE=fuzzer-no-link,address,undefined \
+  -DCMAKE_CXX_FLAGS="-fno-sanitize-recover=undefined -include $PWD/tests/fuzz/clang_compat.h" >/dev/null
+cmake --build "$BUILD" -j "$JOBS" --target "${TARGETS[@]/#/fuzz_}"
+echo "ci-fuzz: build $(( $(date +%s) - t0 )) s"
+[ "$SECONDS_PER_TARGET" -gt 0 ] || exit 0  # FUZZ_SECONDS=0: build only
+
+mkdir -p "$BUILD/crashes"
+export ASAN_OPTIONS=detect_leaks=1:abort_on_error=1
+export UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
+status=0
+for t in "${TARGETS[@]}"; do
+  t1=$(date +%s)
+  work="$BUILD/corpus/$t"  # new inputs go here; the seeds in the repo stay untouched
+  mkdir -p "$work"
+  if ! "$BUILD/bin/fuzz_$t" "$work" "tests/fuzz/$t" -max_total_time="$SECONDS_PER_TARGET" \
+      -timeout=10 -rss_limit_mb=4096 -max_len=65536 -print_final_stats=1 \
+      -artifact_prefix="$BUILD/crashes/$t-" >"$BUILD/fuzz_$t.log" 2>&1; then
+    echo "ci-fuzz: fuzz_$t FOUND A FAILURE (log $BUILD/fuzz_$t.log, input $BUILD/crashes/):"
+    grep -m 20 -E "ERROR|SUMMARY|runtime error|#[0-9]+ " "$BUILD/fuzz_$t.log" || tail -20 "$BUILD/fuzz_$t.log"
+    status=1
+  fi
+  echo "ci-fuzz: fuzz_$t $(( $(date +%s) - t1 )) s, $(grep -m1 -o 'stat::number_of_executed_units: *[0-9]*' "$BUILD/fuzz_$t.log" | grep -o '[0-9]*$' || echo '?') runs"
+done
+echo "ci-fuzz: total $(( $(date +%s) - t0 )) s"
+exit $status
