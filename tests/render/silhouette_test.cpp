@@ -59,13 +59,20 @@ struct SphereCase {
   Scene relief_mapped, displaced;
 };
 
-SphereCase sphere_case() {
+// `constant` >= 0: a depth map reading `constant` everywhere instead of the bumps (the true
+// surface is then the sphere shrunk by constant * sz at each point).
+SphereCase sphere_case(float constant = -1.0f) {
   Result<Scene> made = make_curved_scene("sphere");
   EXPECT_TRUE(made.ok());
   SphereCase c{std::move(made).value(), {}};
   Material& mat = c.relief_mapped.materials.at(0);
   EXPECT_EQ(mat.technique, "relief_quadric");
   mat.textures["depth"] = level0(*mat.textures.at("depth"));
+  if (constant >= 0.0f) {
+    const std::vector<float> v(64 * 64, constant);
+    mat.textures["depth"] =
+        std::make_shared<Texture>(Texture::from_floats(TexFormat::kR32F, 64, 64, v.data()));
+  }
   c.displaced = c.relief_mapped;
   c.displaced.meshes.at(0) =
       displaced_sphere(*mat.textures.at("depth"), mat.params.at("depth_scale"), 512, 256);
@@ -78,7 +85,9 @@ SphereCase sphere_case() {
 // here (6.7% at 400 x 300, 12.7% at 800 x 600: it grows with resolution, so it is geometric, not
 // sampling), spread all round the outline, both too much and too little coverage. The 3% goal
 // is not met; kept disabled until relief_quadric is closer to the displaced surface
-// (`distance=accurate` is worse: 20%).
+// (`distance=accurate` is worse: 20%). Breakdown with constant depth maps: 1.25% at depth 0 (the
+// 64 x 32 polygon's own outline against the 512 x 256 one), 1.32% at 0.5, 2.68% at 1; the bumps
+// (floor at 0.7 to 1, round tops) add the rest.
 TEST(Silhouette, DISABLED_ReliefQuadricSphereWithin3PercentOfTheDisplacedMesh) {
   const SphereCase c = sphere_case();
   const MaskDiff q =
@@ -102,6 +111,30 @@ TEST(Silhouette, ReliefQuadricSphereIsCloserToTheDisplacedMeshThanThePolygon) {
   EXPECT_GT(truth.count(), kWidth * kHeight / 10);  // the sphere is in view
   EXPECT_GT(p.differing, 0);
   EXPECT_LT(q.ratio(), 0.5 * p.ratio());
+}
+
+// The displaced shell alone: with a constant depth of 0.5 the outline is within the bound (1.32%
+// measured; 1.25% of it is the 64 x 32 polygon against the 512 x 256 one, the figure at depth 0).
+TEST(Silhouette, ReliefQuadricConstantDepthSphereWithin3PercentOfTheDisplacedMesh) {
+  const SphereCase c = sphere_case(0.5f);
+  const MaskDiff q =
+      compare_masks(render_coverage(c.relief_mapped, ""), render_coverage(c.displaced, "flat"));
+  const MaskDiff p =
+      compare_masks(render_coverage(c.relief_mapped, "flat"), render_coverage(c.displaced, "flat"));
+  EXPECT_LT(q.ratio(), 0.03) << q.differing << " / " << q.band;
+  EXPECT_GT(p.ratio(), 0.03) << p.differing << " / " << p.band;  // the polygon is not
+}
+
+// distance=accurate (equation 6) on the same constant-depth sphere: measured 8134 differing
+// pixels over a 4036-pixel band. Every fragment more than about 30 degrees from facing the
+// camera is discarded as a miss (only a central disc is drawn), so the mode is broken on curved
+// meshes; kept disabled as the report of that bug.
+TEST(Silhouette, DISABLED_AccurateDistanceConstantDepthSphereWithin3Percent) {
+  SphereCase c = sphere_case(0.5f);
+  c.relief_mapped.materials[0].params["distance"] = 1.0f;
+  const MaskDiff q =
+      compare_masks(render_coverage(c.relief_mapped, ""), render_coverage(c.displaced, "flat"));
+  EXPECT_LT(q.ratio(), 0.03) << q.differing << " / " << q.band;
 }
 
 // Plain relief discards nothing: drawn without depth writes its coverage is the polygon's, pixel
