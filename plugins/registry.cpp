@@ -34,7 +34,8 @@ std::vector<const PluginDescriptor*> PluginRegistry::all() const {
 namespace {
 
 // Each parameter: a unique non-empty name, a known type, finite bounds min <= max with the default
-// inside (an enum: non-empty choices, the default one of them); each texture slot a unique name.
+// inside (an int: within +-2^24, where floats hold every integer; an enum: non-empty choices, the
+// default one of them); each texture slot a unique name.
 Status check_schema(const PluginDescriptor& p) {
   const std::string where = std::string("plugin '") + p.name + "'";
   for (int i = 0; i < p.num_params; ++i) {
@@ -51,6 +52,8 @@ Status check_schema(const PluginDescriptor& p) {
         !std::isfinite(s.max_value) || s.min_value > s.max_value ||
         s.default_value < s.min_value || s.default_value > s.max_value)
       return Status::error(named + ": expected finite min <= default <= max");
+    if (s.type == ParamType::kInt && (s.min_value < -16777216.0f || s.max_value > 16777216.0f))
+      return Status::error(named + ": an int range must lie in -16777216..16777216");
     if (s.type == ParamType::kEnum) {
       if (s.choices == nullptr || s.choices[0] == '\0')
         return Status::error(named + ": an enum needs choices \"a|b|...\"");

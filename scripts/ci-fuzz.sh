@@ -23,6 +23,7 @@ echo "ci-fuzz: build $(( $(date +%s) - t0 )) s"
 
 mkdir -p "$BUILD/crashes"
 export ASAN_OPTIONS=detect_leaks=1:abort_on_error=1
+export LSAN_OPTIONS=suppressions=$PWD/tests/fuzz/lsan.supp
 export UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
 status=0
 for t in "${TARGETS[@]}"; do

@@ -47,6 +47,8 @@ TEST(Schema, MalformedParametersAreOneLineErrorsNamingThem) {
       {{"x", ParamType::kFloat, 5, 10, 1, nullptr, nullptr}, "'x': expected finite min"},
       {{"x", ParamType::kFloat, 0, -inf, 1, nullptr, nullptr}, "'x': expected finite min"},
       {{"x", ParamType::kInt, 20, 0, 10, nullptr, nullptr}, "'x': expected finite min"},
+      // fuzz_plugin_schema: describe_params cast this range to long (undefined behaviour)
+      {{"x", ParamType::kInt, 0, -1.70141e38f, 1, nullptr, nullptr}, "'x': an int range must lie"},
       {{"x", ParamType::kEnum, 0, 0, 2, nullptr, nullptr}, "'x': an enum needs choices"},
       {{"x", ParamType::kEnum, 3, 0, 3, "a|b", nullptr}, "'x': the default must index"},
   };
