@@ -1481,9 +1481,30 @@ class Reader {
   glm::dvec3 centre_{0.0};
 };
 
-// Keeps the encoded bytes; decoding happens in Reader::texture through OpenImageIO.
-bool keep_image_bytes(tinygltf::Image* image, const int, std::string*, std::string*, int, int,
-                      const unsigned char* bytes, int size, void*) {
+// Keeps the encoded bytes; decoding happens in Reader::texture through OpenImageIO. `user` is
+// the model being loaded: tinygltf hands over an image's bufferView bytes without checking that
+// the view lies inside its buffer, so that is checked here before anything is read.
+bool keep_image_bytes(tinygltf::Image* image, const int index, std::string* err, std::string*,
+                      int, int, const unsigned char* bytes, int size, void* user) {
+  const auto* model = static_cast<const tinygltf::Model*>(user);
+  if (size < 0) {
+    if (err) *err = "/images/" + std::to_string(index) + ": negative or huge byte length";
+    return false;
+  }
+  if (model && image->bufferView >= 0) {
+    const size_t v = static_cast<size_t>(image->bufferView);
+    const bool view_ok = v < model->bufferViews.size();
+    const tinygltf::BufferView* view = view_ok ? &model->bufferViews[v] : nullptr;
+    const bool buffer_ok = view && view->buffer >= 0 &&
+                           static_cast<size_t>(view->buffer) < model->buffers.size();
+    const size_t have = buffer_ok ? model->buffers[static_cast<size_t>(view->buffer)].data.size() : 0;
+    if (!buffer_ok || view->byteOffset > have || view->byteLength > have - view->byteOffset) {
+      if (err)
+        *err = "/bufferViews/" + std::to_string(image->bufferView) +
+               ": image bytes lie outside their buffer";
+      return false;
+    }
+  }
   image->image.assign(bytes, bytes + size);
   return true;
 }
@@ -1517,9 +1538,9 @@ Result<Scene> load_gltf(const std::string& path) {
                            " bytes, the file has " + std::to_string(size));
   }
   tinygltf::TinyGLTF loader;
-  loader.SetImageLoader(keep_image_bytes, nullptr);
-  loader.SetStoreOriginalJSONForExtrasAndExtensions(true);
   tinygltf::Model model;
+  loader.SetImageLoader(keep_image_bytes, &model);
+  loader.SetStoreOriginalJSONForExtrasAndExtensions(true);
   std::string err, warn;
   bool ok = false;
   if (has_suffix(path, ".glb"))
