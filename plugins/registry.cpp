@@ -33,6 +33,16 @@ std::vector<const PluginDescriptor*> PluginRegistry::all() const {
 
 namespace {
 
+// Names that land in messages, --param keys and glTF: letters, digits, '_' and '-' only, so an
+// error that quotes one stays one printable line.
+bool plain_name(const char* n) {
+  if (n == nullptr || n[0] == '\0') return false;
+  for (const char* c = n; *c; ++c)
+    if (!std::isalnum(static_cast<unsigned char>(*c)) && *c != '_' && *c != '-') return false;
+  return true;
+}
+const char* kPlainNameRule = "letters, digits, '_' and '-' only";
+
 // Each parameter: a unique non-empty name, a known type, finite bounds min <= max with the default
 // inside (an int: within +-2^24, where floats hold every integer; an enum: non-empty choices, the
 // default one of them); each texture slot a unique name.
@@ -42,6 +52,7 @@ Status check_schema(const PluginDescriptor& p) {
     const ParamSpec& s = p.params[i];
     const std::string at = where + " parameter " + std::to_string(i);
     if (s.name == nullptr || s.name[0] == '\0') return Status::error(at + " has no name");
+    if (!plain_name(s.name)) return Status::error(at + ": a name has " + kPlainNameRule);
     for (int j = 0; j < i; ++j)
       if (std::strcmp(p.params[j].name, s.name) == 0)
         return Status::error(where + " declares parameter '" + s.name + "' twice");
@@ -58,7 +69,11 @@ Status check_schema(const PluginDescriptor& p) {
       if (s.choices == nullptr || s.choices[0] == '\0')
         return Status::error(named + ": an enum needs choices \"a|b|...\"");
       int n = 1;
-      for (const char* c = s.choices; *c; ++c) n += *c == '|';
+      for (const char* c = s.choices; *c; ++c) {
+        n += *c == '|';
+        if (*c != '|' && !std::isalnum(static_cast<unsigned char>(*c)) && *c != '_' && *c != '-')
+          return Status::error(named + ": enum choices have " + kPlainNameRule + ", split by '|'");
+      }
       if (s.default_value != std::floor(s.default_value) || s.default_value >= n)
         return Status::error(named + ": the default must index one of the choices");
     }
@@ -67,6 +82,9 @@ Status check_schema(const PluginDescriptor& p) {
     const char* n = p.textures[i].name;
     if (n == nullptr || n[0] == '\0')
       return Status::error(where + " texture slot " + std::to_string(i) + " has no name");
+    if (!plain_name(n))
+      return Status::error(where + " texture slot " + std::to_string(i) + ": a name has " +
+                           kPlainNameRule);
     for (int j = 0; j < i; ++j)
       if (std::strcmp(p.textures[j].name, n) == 0)
         return Status::error(where + " declares texture slot '" + n + "' twice");
@@ -82,6 +100,8 @@ Status PluginRegistry::add(const PluginDescriptor* p) {
     return Status::error("plugin ABI version " + std::to_string(p->abi_version) + ", expected " +
                          std::to_string(kPluginAbiVersion));
   if (p->name == nullptr || p->name[0] == '\0') return Status::error("plugin has no name");
+  if (!plain_name(p->name))
+    return Status::error(std::string("plugin name: expected ") + kPlainNameRule);
   if (p->select == nullptr || p->depth_output == nullptr)
     return Status::error(std::string("plugin '") + p->name + "' has no select/depth_output entry");
   if (p->num_params < 0 || p->num_params > kMaxParams || (p->num_params > 0 && !p->params))

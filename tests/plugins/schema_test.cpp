@@ -65,6 +65,24 @@ TEST(Schema, MalformedParametersAreOneLineErrorsNamingThem) {
   }
 }
 
+// fuzz_plugin_schema: a name with a newline made a multi-line error. Names are plain
+// identifiers, so every message that quotes one stays one printable line.
+TEST(Schema, NamesWithControlCharactersAreRefusedInOneLine) {
+  const std::vector<ParamSpec> bad_param = {kGood, {"a\nb", ParamType::kFloat, 0, 0, 1, nullptr, nullptr}};
+  const std::vector<ParamSpec> bad_choice = {kGood, {"mode", ParamType::kEnum, 0, 0, 1, "a|b\n", nullptr}};
+  const std::vector<TextureSlotSpec> bad_slot = {{"dep\nth", true, nullptr}};
+  PluginDescriptor p1 = descriptor(bad_param), p2 = descriptor(bad_choice),
+                   p3 = descriptor({kGood}, bad_slot), p4 = descriptor({kGood});
+  p4.name = "two\nlines";
+  for (const PluginDescriptor* d : {&p1, &p2, &p3, &p4}) {
+    PluginRegistry r;
+    const Status s = r.add(d);
+    ASSERT_FALSE(s.ok());
+    EXPECT_EQ(s.message().find('\n'), std::string::npos) << s.message();
+    EXPECT_NE(s.message().find("letters, digits"), std::string::npos) << s.message();
+  }
+}
+
 TEST(Schema, MalformedTextureSlotsAreRefused) {
   const std::vector<ParamSpec> params = {kGood};
   for (const std::vector<TextureSlotSpec>& slots :
