@@ -71,8 +71,9 @@ TEST(Schema, NamesWithControlCharactersAreRefusedInOneLine) {
   const std::vector<ParamSpec> bad_param = {kGood, {"a\nb", ParamType::kFloat, 0, 0, 1, nullptr, nullptr}};
   const std::vector<ParamSpec> bad_choice = {kGood, {"mode", ParamType::kEnum, 0, 0, 1, "a|b\n", nullptr}};
   const std::vector<TextureSlotSpec> bad_slot = {{"dep\nth", true, nullptr}};
+  const std::vector<ParamSpec> good = {kGood};  // descriptors point into these vectors
   PluginDescriptor p1 = descriptor(bad_param), p2 = descriptor(bad_choice),
-                   p3 = descriptor({kGood}, bad_slot), p4 = descriptor({kGood});
+                   p3 = descriptor(good, bad_slot), p4 = descriptor(good);
   p4.name = "two\nlines";
   for (const PluginDescriptor* d : {&p1, &p2, &p3, &p4}) {
     PluginRegistry r;
