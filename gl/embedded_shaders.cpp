@@ -37,6 +37,8 @@
   X(steep_parallax_frag, "steep_parallax.frag") \
   X(pom_frag, "pom.frag")                       \
   X(relief_frag, "relief.frag")                 \
+  X(quadric_glsl, "quadric.glsl")               \
+  X(relief_quadric_frag, "relief_quadric.frag") \
   X(exact_frag, "exact.frag")                   \
   X(cone_glsl, "cone.glsl")                     \
   X(cone_frag, "cone.frag")                     \

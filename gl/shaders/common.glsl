@@ -30,10 +30,16 @@ layout(origin_upper_left) in vec4 gl_FragCoord;
 #if RELIEF_WRITES_DEPTH && RELIEF_DEPTH_FARTHER
 layout(depth_less) out float gl_FragDepth;
 #endif
-#if !RELIEF_WRITES_DEPTH
+#ifndef RELIEF_MAY_DISCARD
+#define RELIEF_MAY_DISCARD 0
+#endif
+#if !RELIEF_WRITES_DEPTH && !RELIEF_MAY_DISCARD
 // The CPU tests depth before shading when the shader writes none (DepthTest::kEarly); GL would
 // run a shader with side effects (the RELIEF_COUNT atomics) before the test, counting fragments
-// the CPU never shades.
+// the CPU never shades. Not in a twin that discards (it defines RELIEF_MAY_DISCARD 1 before
+// including this file: relief_quadric, relief_dual): early tests write the depth of every
+// fragment that passes them, discarded or not, where the CPU writes none for a discarded one;
+// such a twin, like a depth-writing one, counts the fragments hidden behind earlier surfaces too.
 layout(early_fragment_tests) in;
 #endif
 

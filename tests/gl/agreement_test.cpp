@@ -218,9 +218,12 @@ TEST(GlAgreement, BuiltinScenesMatchCpu) {
         // before any depth test, so where a surface lies behind one drawn earlier (teapot, torus)
         // GL counts the fragments the CPU rejects early. Those variants: GL counts at least the
         // CPU's fragments, and the per-fragment work is compared where no fragment was hidden.
+        // The twins that can discard (the plugins supporting kEffectSilhouette: relief_quadric,
+        // relief_dual) run without early tests too (common.glsl RELIEF_MAY_DISCARD).
         bool writes_depth = false;
         for (const BoundMaterial& m : plan->materials)
-          writes_depth = writes_depth || m.plugin->depth_output(m.effects) != DepthOutput::kNone;
+          writes_depth = writes_depth || m.plugin->depth_output(m.effects) != DepthOutput::kNone ||
+                         (m.plugin->supported_effects & kEffectSilhouette) != 0;
         if (writes_depth && wg.fragments != wc.fragments) {
           EXPECT_GT(wg.fragments, wc.fragments);
           std::printf("[ note     ] %s: GL shaded %llu fragments hidden before its depth test\n",

@@ -1,0 +1,101 @@
+#version 450 core
+// `relief_quadric`: GLSL twin of plugins/relief_quadric.cpp. Relief mapping with correct
+// silhouettes on per-vertex quadrics (Oliveira and Policarpo, "An Efficient Representation for
+// Surface Details", UFRGS RP-351, 2005, sections 3 to 3.5): the texture-space ray against the
+// quadric-deformed height field (quadric.glsl), linear then binary search over [0, t_max]; rays
+// that leave the relief without a hit are discarded (silhouette), whatever the material's
+// effects. Depth correction writes the hit's depth; no self-shadow (section 3.5), shadow maps
+// looked up at the hit. Shares the relief shell's frame, per-quad LOD, normal and colour maps.
+// Misses discard: no early fragment tests (common.glsl).
+#define RELIEF_MAY_DISCARD 1
+#include "common.glsl"
+#include "ray.glsl"
+#include "search.glsl"
+#include "quadric.glsl"
+#include "shadow_map.glsl"
+
+// Parameters, schema order.
+const int kSteps = 0;
+const int kBinarySteps = 1;
+const int kMinSteps = 2;
+const int kDepthScale = 3;
+const int kDistance = 4;
+
+const int kBaseColorSlot = 0;
+const int kNormalSlot = 1;
+
+// The C++ ShadowMapReceiver (EFFECT_RECEIVE_SHADOW): the map at the hit, against the plane with
+// the shading normal; NoShadow otherwise.
+vec3 recv_p, recv_n;
+float recv_fetches;
+float visibility(int i, vec3 l) {
+#if EFFECT_RECEIVE_SHADOW
+  return shadow_map_visibility(i, recv_p, recv_n, l, recv_fetches);
+#else
+  return 1.0;
+#endif
+}
+
+ShadeOut shade(FragIn in_) {
+  ShadeOut o = shade_out_default();
+  int kind = material.params[kDistance] >= 0.5 ? kQuadricAccurate : kQuadricApproximate;
+  vec3 geo_n = in_.normal;
+  if (!in_.front_facing) geo_n = -geo_n;
+  TangentFrame tf = make_tangent_frame(geo_n, in_.tangent, in_.tangent_sign);
+  vec3 w = world_view_dir(in_.position, frame.eye, frame.orthographic, frame.view_dir, -tf.n);
+  vec3 V = to_tangent(tf, w);
+  float depth_scale = material.params[kDepthScale];
+  // seen from the back the surface curves the other way
+  vec2 q = in_.front_facing ? in_.quadric : -in_.quadric;
+  // relief depth in world units: depth_scale uv units (as in the relief shell)
+  float sz = depth_scale * (in_.tile_scale.x + in_.tile_scale.y) * 0.5;
+  float t = 0.0, world_per_t = 0.0;
+  vec2 hit_uv = in_.uv;
+  if (has_texture[kDepthSlot]) {
+    // constant LOD per quad, outside the loops
+    TextureDepth depth =
+        TextureDepth(compute_lod(vec2(textureSize(textures[kDepthSlot], 0)), in_.duv_dx, in_.duv_dy));
+    QuadricRay ray = make_quadric_ray(kind, V, q, in_.tile_scale, sz);
+    float n = relief_step_count(V.z, material.params[kMinSteps], material.params[kSteps]);
+    QuadricHit h = quadric_search(kind, depth, in_.uv, ray, n, int(material.params[kBinarySteps]));
+    hit_uv = h.hit.uv;
+    t = h.t;
+    world_per_t = ray.world_per_t;
+    o.hit_depth = h.hit.depth;
+    o.steps = h.hit.steps;
+    o.fetches = h.hit.fetches;
+    o.discarded = h.miss;
+  }
+  o.hit_uv = hit_uv;
+  precise float dist = t * world_per_t;
+  vec3 pos = in_.position + w * dist;
+#if EFFECT_DEPTH_WRITE || EFFECT_SHADOW_PASS
+  o.depth = min(reversed_z_depth(frame.view_proj, pos, in_.frag_z), in_.frag_z);
+#endif
+#if EFFECT_SHADOW_PASS
+  return o;
+#else
+  vec3 n = tf.n;
+  if (has_texture[kNormalSlot]) {
+    vec4 c = textureGrad(textures[kNormalSlot], hit_uv, in_.duv_dx, in_.duv_dy);
+    n = normalize_safe(to_world(tf, vec3(c.x * 2.0 - 1.0, c.y * 2.0 - 1.0, c.z * 2.0 - 1.0)));
+    o.fetches += 1.0;
+  }
+  vec3 albedo = material.base_color.rgb;
+  if (has_texture[kBaseColorSlot]) {
+    vec4 c = textureGrad(textures[kBaseColorSlot], hit_uv, in_.duv_dx, in_.duv_dy);
+    albedo = albedo * c.xyz;
+    o.fetches += 1.0;
+  }
+  recv_p = pos;
+  recv_n = n;
+  recv_fetches = o.fetches;
+  o.color = blinn_phong(pos, n, -w, albedo);
+  o.fetches = recv_fetches;
+  o.alpha = material.base_color.a;
+  o.shading_normal = n;
+  return o;
+#endif
+}
+
+void main() { store_out(shade(load_fragment())); }
