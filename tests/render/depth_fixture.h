@@ -13,8 +13,10 @@ namespace relief {
 inline TexturePtr level0_only(const Texture& d) {
   std::vector<float> v(static_cast<size_t>(d.width(0)) * d.height(0));
   for (int y = 0; y < d.height(0); ++y)
-    for (int x = 0; x < d.width(0); ++x) v[static_cast<size_t>(y) * d.width(0) + x] = d.fetch_r(0, x, y);
-  return std::make_shared<Texture>(Texture::from_floats(d.format(), d.width(0), d.height(0), v.data()));
+    for (int x = 0; x < d.width(0); ++x)
+      v[static_cast<size_t>(y) * d.width(0) + x] = d.fetch_r(0, x, y);
+  return std::make_shared<Texture>(
+      Texture::from_floats(d.format(), d.width(0), d.height(0), v.data()));
 }
 
 // `s` with every material's depth map cut to level 0.
