@@ -39,6 +39,7 @@
   X(relief_frag, "relief.frag")                 \
   X(quadric_glsl, "quadric.glsl")               \
   X(relief_quadric_frag, "relief_quadric.frag") \
+  X(relief_dual_frag, "relief_dual.frag")       \
   X(exact_frag, "exact.frag")                   \
   X(cone_glsl, "cone.glsl")                     \
   X(cone_frag, "cone.frag")                     \

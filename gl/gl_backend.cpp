@@ -195,7 +195,7 @@ int slot_named(const PluginDescriptor& p, const char* name) {
 Upload upload_for(const PluginDescriptor& p, int slot, const Texture& t) {
   if (slot >= p.num_textures) return Upload::kNative;
   const std::string name = p.textures[slot].name;
-  if (name == "depth") return Upload::kR32F;
+  if (name == "depth" || name == "depth_back") return Upload::kR32F;  // depth_back: relief_dual
   if (is_derived_slot(name))
     return format_channels(t.format()) == 1 ? Upload::kR32F : Upload::kRGBA32F;
   return Upload::kNative;
