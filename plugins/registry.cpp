@@ -149,6 +149,20 @@ std::vector<std::string> split_choices(const char* choices) {
   return out;
 }
 
+// User text as it goes into a message: control characters escaped, so the message stays one line.
+std::string printable(const std::string& t) {
+  std::string out;
+  for (unsigned char c : t) {
+    if (c >= 0x20 && c != 0x7f) {
+      out += static_cast<char>(c);
+    } else {
+      static const char kHex[] = "0123456789abcdef";
+      out += c == '\n' ? std::string("\\n") : std::string("\\x") + kHex[c >> 4] + kHex[c & 15];
+    }
+  }
+  return out;
+}
+
 std::string range_text(const ParamSpec& p) {
   std::ostringstream os;
   switch (p.type) {
@@ -180,21 +194,21 @@ Result<float> parse_value(const PluginDescriptor& plugin, const ParamSpec& p,
   if (p.type == ParamType::kBool) {
     if (text == "true" || text == "1" || text == "on") return 1.0f;
     if (text == "false" || text == "0" || text == "off") return 0.0f;
-    return Status::usage(where + ": expected true or false, got '" + text + "'");
+    return Status::usage(where + ": expected true or false, got '" + printable(text) + "'");
   }
   if (p.type == ParamType::kEnum) {
     const auto choices = split_choices(p.choices);
     for (size_t i = 0; i < choices.size(); ++i)
       if (choices[i] == text) return static_cast<float>(i);
-    return Status::usage(where + ": expected one of " + range_text(p) + ", got '" + text + "'");
+    return Status::usage(where + ": expected one of " + range_text(p) + ", got '" + printable(text) + "'");
   }
   char* end = nullptr;
   errno = 0;
   const double v = std::strtod(text.c_str(), &end);
   if (text.empty() || end != text.c_str() + text.size() || errno == ERANGE)
-    return Status::usage(where + ": expected a number, got '" + text + "'");
+    return Status::usage(where + ": expected a number, got '" + printable(text) + "'");
   if (std::isfinite(v) && std::abs(v) > 3.4e38)  // no float holds it (the cast would be undefined)
-    return Status::usage(where + ": " + text + " is outside " + range_text(p));
+    return Status::usage(where + ": " + printable(text) + " is outside " + range_text(p));
   Status s = check_value(plugin, p, static_cast<float>(v));
   if (!s.ok()) return Status::usage(s.message());
   return static_cast<float>(v);
@@ -210,14 +224,14 @@ Result<std::vector<float>> resolve_params(const PluginDescriptor& plugin,
   for (const auto& [name, v] : overrides) {
     const int i = param_index(plugin, name.c_str());
     if (i < 0)
-      return Status::error(std::string(plugin.name) + " has no parameter '" + name + "'");
+      return Status::error(std::string(plugin.name) + " has no parameter '" + printable(name) + "'");
     RELIEF_RETURN_IF_ERROR(check_value(plugin, plugin.params[i], v));
     values[i] = v;
   }
   for (const auto& [name, t] : text) {
     const int i = param_index(plugin, name.c_str());
     if (i < 0)
-      return Status::usage(std::string(plugin.name) + " has no parameter '" + name +
+      return Status::usage(std::string(plugin.name) + " has no parameter '" + printable(name) +
                            "' (see `relief techniques`)");
     Result<float> v = parse_value(plugin, plugin.params[i], t);
     if (!v.ok()) return v.status();

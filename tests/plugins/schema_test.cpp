@@ -84,6 +84,21 @@ TEST(Schema, NamesWithControlCharactersAreRefusedInOneLine) {
   }
 }
 
+// fuzz_plugin_schema: `--param` text with a newline, quoted back in the error, made it two lines.
+TEST(Schema, UserTextInParameterErrorsIsEscapedToOneLine) {
+  const std::vector<ParamSpec> params = {kGood};
+  PluginDescriptor d = descriptor(params);
+  for (const auto& [name, value] : std::vector<std::pair<std::string, std::string>>{
+           {"ste\nps", "1"}, {"steps", "1\n2"}, {"steps", "x\ty"}}) {
+    Result<std::vector<float>> v = resolve_params(d, {}, {{name, value}});
+    ASSERT_FALSE(v.ok());
+    const std::string& m = v.status().message();
+    EXPECT_EQ(m.find('\n'), std::string::npos) << m;
+    EXPECT_EQ(m.find('\t'), std::string::npos) << m;
+    EXPECT_TRUE(m.find("\\n") != std::string::npos || m.find("\\x09") != std::string::npos) << m;
+  }
+}
+
 TEST(Schema, MalformedTextureSlotsAreRefused) {
   const std::vector<ParamSpec> params = {kGood};
   for (const std::vector<TextureSlotSpec>& slots :
