@@ -74,7 +74,8 @@ Status check_schema(const PluginDescriptor& p) {
         if (*c != '|' && !std::isalnum(static_cast<unsigned char>(*c)) && *c != '_' && *c != '-')
           return Status::error(named + ": enum choices have " + kPlainNameRule + ", split by '|'");
       }
-      if (s.default_value != std::floor(s.default_value) || s.default_value >= n)
+      if (s.default_value != std::floor(s.default_value) || s.default_value < 0.0f ||
+          s.default_value >= n)
         return Status::error(named + ": the default must index one of the choices");
     }
   }

@@ -51,6 +51,8 @@ TEST(Schema, MalformedParametersAreOneLineErrorsNamingThem) {
       {{"x", ParamType::kInt, 0, -1.70141e38f, 1, nullptr, nullptr}, "'x': an int range must lie"},
       {{"x", ParamType::kEnum, 0, 0, 2, nullptr, nullptr}, "'x': an enum needs choices"},
       {{"x", ParamType::kEnum, 3, 0, 3, "a|b", nullptr}, "'x': the default must index"},
+      // fuzz_plugin_schema: a negative default passed and describe_params cast it to size_t
+      {{"x", ParamType::kEnum, -8.79609e12f, -1e13f, 1, "a|b", nullptr}, "'x': the default must index"},
   };
   for (const Case& c : cases) {
     const std::vector<ParamSpec> params = {kGood, c.spec};
