@@ -3,10 +3,16 @@
 # and runs each for FUZZ_SECONDS (default 60) from its seed corpus tests/fuzz/<target>/. Any crash,
 # leak, sanitizer report or timeout fails the script; libFuzzer leaves the reproducer in
 # $BUILD/crashes/. Usage: scripts/ci-fuzz.sh [build-dir]   (default build-fuzz)
+# CI runs a fixed seed (FUZZ_SEED, default 1): the same binary, seed and corpus give the same
+# sequence of inputs, so CI replays what was checked here (a faster machine goes a little further
+# in the same sequence in its 60 s). FUZZ_SEED=0 picks a random seed (for exploring);
+# FUZZ_RUNS caps the inputs per target (-1, the default: only the time limit).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 BUILD=${1:-build-fuzz}
 SECONDS_PER_TARGET=${FUZZ_SECONDS:-60}
+SEED=${FUZZ_SEED:-1}
+RUNS=${FUZZ_RUNS:--1}
 JOBS=${JOBS:-$(nproc)}
 TARGETS=(gltf image cli plugin_schema)
 CXX=${FUZZ_CXX:-clang++-14}
@@ -30,7 +36,7 @@ for t in "${TARGETS[@]}"; do
   t1=$(date +%s)
   work="$BUILD/corpus/$t"  # new inputs go here; the seeds in the repo stay untouched
   mkdir -p "$work"
-  if ! "$BUILD/bin/fuzz_$t" "$work" "tests/fuzz/$t" -max_total_time="$SECONDS_PER_TARGET" \
+  if ! "$BUILD/bin/fuzz_$t" "$work" "tests/fuzz/$t" -max_total_time="$SECONDS_PER_TARGET" -seed="$SEED" -runs="$RUNS" \
       -timeout=10 -rss_limit_mb=4096 -max_len=65536 -print_final_stats=1 \
       -artifact_prefix="$BUILD/crashes/$t-" >"$BUILD/fuzz_$t.log" 2>&1; then
     echo "ci-fuzz: fuzz_$t FOUND A FAILURE (log $BUILD/fuzz_$t.log, input $BUILD/crashes/):"
