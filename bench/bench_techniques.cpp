@@ -8,25 +8,12 @@
 // fixed (min_steps = steps), as in the papers. One line of kCases adds a technique.
 //
 //   build/bench/bench_techniques --benchmark_repetitions=5 --benchmark_report_aggregates_only=true
-#include <benchmark/benchmark.h>
-
-#include <chrono>
-#include <map>
-#include <string>
-
-#include "render/render.h"
-#include "scene/builtin.h"
+#include "bench/bench_util.h"
 
 namespace relief {
 namespace {
 
-struct Case {
-  const char* name;  // BM_Technique_<name>
-  const char* technique;
-  std::map<std::string, std::string> params;
-};
-
-const Case kCases[] = {
+const TechniqueCase kCases[] = {
     {"Normal", "normal", {}},  // baseline: no search
     {"Parallax", "parallax", {}},
     {"SteepParallax_32", "steep_parallax", {{"steps", "32"}}},
@@ -39,56 +26,18 @@ const Case kCases[] = {
     {"RelaxedCone_15_6", "relaxed_cone", {{"steps", "15"}, {"binary_steps", "6"}}},
 };
 
-void run_technique(benchmark::State& state, const Case& c) {
-  Result<Scene> scene = make_builtin_scene("plane");
-  RenderOptions opt;
-  opt.width = 1024;
-  opt.height = 768;
-  opt.threads = 2;
-  opt.technique = c.technique;
-  opt.params = c.params;
-  Result<Plan> plan = make_plan(*scene, opt);
-  if (!scene.ok() || !plan.ok()) {
-    state.SkipWithError(plan.ok() ? "no scene" : plan.status().message().c_str());
-    return;
-  }
-  auto backend = make_cpu_backend(opt.threads);
-  (void)backend->render(*scene, *plan, opt);  // warm-up: derived state, caches
-  WorkCounters work;
-  double ns = 0.0;
-  for (auto _ : state) {
-    const auto t0 = std::chrono::steady_clock::now();
-    Result<RenderResult> r = backend->render(*scene, *plan, opt);
-    ns += std::chrono::duration<double, std::nano>(std::chrono::steady_clock::now() - t0).count();
-    if (!r.ok()) {
-      state.SkipWithError(r.status().message().c_str());
-      return;
-    }
-    for (const PassStats& p : r->passes) work += p.raster.work;
-    benchmark::DoNotOptimize(r->framebuffer.color.pixels.data());
-    backend->recycle(std::move(r).value());
-  }
+void run_technique(benchmark::State& state, const TechniqueCase& c) {
+  const WorkCounters work = time_technique(state, "plane", c);
   const double f = static_cast<double>(work.fragments);
   if (f == 0.0) return;
-  state.counters["ns_per_fragment"] = ns / f;
   state.counters["fetches_per_fragment"] = static_cast<double>(work.texture_fetches) / f;
-  state.counters["steps_per_fragment"] = static_cast<double>(work.search_steps) / f;
   state.counters["shadow_steps_per_fragment"] = static_cast<double>(work.shadow_steps) / f;
-  state.SetItemsProcessed(static_cast<int64_t>(work.fragments));
 }
 
 }  // namespace
 }  // namespace relief
 
 int main(int argc, char** argv) {
-  for (const relief::Case& c : relief::kCases)
-    benchmark::RegisterBenchmark((std::string("BM_Technique_") + c.name).c_str(),
-                                 [&c](benchmark::State& s) { relief::run_technique(s, c); })
-        ->Unit(benchmark::kMillisecond)
-        ->UseRealTime();
-  benchmark::Initialize(&argc, argv);
-  if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
-  benchmark::RunSpecifiedBenchmarks();
-  benchmark::Shutdown();
-  return 0;
+  return relief::run_technique_cases(argc, argv, "BM_Technique_", relief::kCases,
+                                     relief::run_technique);
 }

@@ -1,0 +1,82 @@
+// Shared by the technique-cost benchmarks (bench_techniques, bench_quadric): one case of a
+// technique with its parameters, and the timing loop over frames of a built-in scene.
+#pragma once
+
+#include <benchmark/benchmark.h>
+
+#include <chrono>
+#include <map>
+#include <string>
+
+#include "render/render.h"
+#include "scene/builtin.h"
+
+namespace relief {
+
+struct TechniqueCase {
+  const char* name;  // the benchmark's name after its prefix
+  const char* technique;
+  std::map<std::string, std::string> params;
+};
+
+// Renders the built-in scene `scene_name` at 1024 x 768 on 2 threads with `c`'s technique and
+// parameters: one untimed warm-up frame (derived state, caches), then one timed frame per
+// iteration, each handed back to the backend (no framebuffer allocation per frame). Sets the
+// counters ns_per_fragment and steps_per_fragment and the items processed (fragments); returns
+// the summed work, or sets the error on `state` and returns no fragments.
+inline WorkCounters time_technique(benchmark::State& state, const char* scene_name,
+                                   const TechniqueCase& c) {
+  Result<Scene> scene = make_builtin_scene(scene_name);
+  RenderOptions opt;
+  opt.width = 1024;
+  opt.height = 768;
+  opt.threads = 2;
+  opt.technique = c.technique;
+  opt.params = c.params;
+  Result<Plan> plan = make_plan(*scene, opt);
+  if (!scene.ok() || !plan.ok()) {
+    state.SkipWithError(plan.ok() ? "no scene" : plan.status().message().c_str());
+    return {};
+  }
+  auto backend = make_cpu_backend(opt.threads);
+  (void)backend->render(*scene, *plan, opt);
+  WorkCounters work;
+  double ns = 0.0;
+  for (auto _ : state) {
+    const auto t0 = std::chrono::steady_clock::now();
+    Result<RenderResult> r = backend->render(*scene, *plan, opt);
+    ns += std::chrono::duration<double, std::nano>(std::chrono::steady_clock::now() - t0).count();
+    if (!r.ok()) {
+      state.SkipWithError(r.status().message().c_str());
+      return {};
+    }
+    for (const PassStats& p : r->passes) work += p.raster.work;
+    benchmark::DoNotOptimize(r->framebuffer.color.pixels.data());
+    backend->recycle(std::move(r).value());
+  }
+  const double f = static_cast<double>(work.fragments);
+  if (f == 0.0) return work;
+  state.counters["ns_per_fragment"] = ns / f;
+  state.counters["steps_per_fragment"] = static_cast<double>(work.search_steps) / f;
+  state.SetItemsProcessed(static_cast<int64_t>(work.fragments));
+  return work;
+}
+
+// Registers one benchmark `prefix` + case name per case (milliseconds, real time), then runs
+// those the command line selects; the body of a benchmark's main().
+template <size_t N, typename Run>
+int run_technique_cases(int argc, char** argv, const char* prefix, const TechniqueCase (&cases)[N],
+                        Run run) {
+  for (const TechniqueCase& c : cases)
+    benchmark::RegisterBenchmark((std::string(prefix) + c.name).c_str(),
+                                 [&c, run](benchmark::State& s) { run(s, c); })
+        ->Unit(benchmark::kMillisecond)
+        ->UseRealTime();
+  benchmark::Initialize(&argc, argv);
+  if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
+  benchmark::RunSpecifiedBenchmarks();
+  benchmark::Shutdown();
+  return 0;
+}
+
+}  // namespace relief
