@@ -12,6 +12,7 @@
 #include "scene/builtin_bending.h"
 #include "scene/builtin_curved.h"
 #include "scene/builtin_impostor.h"
+#include "scene/builtin_parts.h"
 #include "scene/builtin_room.h"
 #include "scene/builtin_showcase.h"
 #include "scene/mesh_prep.h"
@@ -157,21 +158,9 @@ Scene relief_quad_scene(const std::string& name, float uv_tiles, const std::stri
   mat.depth_write = true;
   s.materials.push_back(mat);
   s.instances.push_back({0, 0, glm::mat4(1.0f)});
-  Light sun;
-  sun.name = "sun";
-  sun.type = LightType::kDirectional;
-  sun.direction = glm::normalize(glm::vec3(-0.6f, -0.7f, -0.4f));
-  sun.color = glm::vec3(1.5f);
-  s.lights.push_back(sun);
-  Camera cam;
-  cam.name = "45deg";
+  s.lights.push_back(directional_light("sun", {-0.6f, -0.7f, -0.4f}, glm::vec3(1.5f)));
   // 45 degrees between the view direction and the plane's normal.
-  cam.position = glm::vec3(0.0f, 1.25f, 1.25f);
-  cam.target = glm::vec3(0.0f, 0.0f, 0.0f);
-  cam.yfov_deg = 50.0f;
-  cam.znear = 0.05f;
-  cam.zfar = 20.0f;
-  s.cameras.push_back(cam);
+  s.cameras.push_back(look_at("45deg", {0.0f, 1.25f, 1.25f}, glm::vec3(0.0f), 50.0f, 20.0f));
   s.ambient = glm::vec3(0.08f);
   s.background = glm::vec4(0.05f, 0.06f, 0.08f, 1.0f);
   return s;
@@ -223,7 +212,8 @@ Texture make_pattern_depth(int size) {
 const std::vector<BuiltinSceneInfo>& builtin_scenes() {
   static const std::vector<BuiltinSceneInfo> scenes = {
       {"plane", "one quad with a procedural brick depth map and its normal map, camera at 45 deg"},
-      {"room", "relief room: relief walls, floor, columns and sphere, one shadow-casting spot light"},
+      {"room",
+       "relief room: relief walls, floor, columns and sphere, one shadow-casting spot light"},
       {"pattern",
        "the same quad with smooth and sharp features and one-texel walls (4 x 4 tiles "
        "of 256 x 256), where searches that step over thin structures show"},

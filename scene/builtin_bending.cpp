@@ -11,6 +11,7 @@
 #include "rasterizer/check.h"
 #include "scene/animation.h"
 #include "scene/builtin.h"
+#include "scene/builtin_parts.h"
 #include "scene/mesh_prep.h"
 
 namespace relief {
@@ -126,14 +127,7 @@ Result<Scene> make_bending_scene() {
   s.animation = anim;
 
   s.lights = plane->lights;  // the same sun
-  Camera cam;
-  cam.name = "side";
-  cam.position = glm::vec3(-0.2f, 1.1f, 3.4f);
-  cam.target = glm::vec3(-0.3f, 1.0f, 0.0f);
-  cam.yfov_deg = 40.0f;
-  cam.znear = 0.05f;
-  cam.zfar = 20.0f;
-  s.cameras.push_back(cam);
+  s.cameras.push_back(look_at("side", {-0.2f, 1.1f, 3.4f}, {-0.3f, 1.0f, 0.0f}, 40.0f, 20.0f));
   s.ambient = plane->ambient;
   s.background = plane->background;
   return s;

@@ -11,6 +11,7 @@
 
 #include <glm/geometric.hpp>
 
+#include "scene/builtin_parts.h"
 #include "scene/builtin_room.h"
 #include "scene/mesh_prep.h"
 
@@ -306,19 +307,8 @@ Scene curved_scene(const std::string& name, Mesh mesh, float depth_scale, glm::v
   s.materials.push_back(mat);
   s.meshes.push_back(std::move(mesh));
   s.instances.push_back({0, 0, glm::mat4(1.0f)});
-  Light sun;
-  sun.name = "sun";
-  sun.direction = glm::normalize(glm::vec3(-0.5f, -0.7f, -0.5f));
-  sun.color = glm::vec3(1.4f);
-  s.lights.push_back(sun);
-  Camera cam;
-  cam.name = "view";
-  cam.position = eye;
-  cam.target = target;
-  cam.yfov_deg = 40.0f;
-  cam.znear = 0.05f;
-  cam.zfar = 30.0f;
-  s.cameras.push_back(cam);
+  s.lights.push_back(directional_light("sun", {-0.5f, -0.7f, -0.5f}, glm::vec3(1.4f)));
+  s.cameras.push_back(look_at("view", eye, target, 40.0f, 30.0f));
   s.ambient = glm::vec3(0.08f);
   s.background = glm::vec4(0.05f, 0.06f, 0.08f, 1.0f);
   return s;

@@ -7,6 +7,7 @@
 #include <memory>
 
 #include "scene/builtin_curved.h"
+#include "scene/builtin_parts.h"
 #include "scene/mesh_prep.h"
 
 namespace relief {
@@ -73,20 +74,10 @@ Scene make_impostor_scene() {
   s.materials.push_back(dual_depth_material("sphere_impostor", maps, {0.8f, 0.5f, 0.3f}));
   s.meshes.push_back(dual_depth_quad(maps));
   s.instances.push_back({0, 0, glm::mat4(1.0f)});
-  Light sun;
-  sun.name = "sun";
-  sun.direction = glm::normalize(glm::vec3(-0.4f, -0.5f, -0.8f));
-  sun.color = glm::vec3(1.4f);
-  s.lights.push_back(sun);
-  Camera cam;
-  cam.name = "view";
+  s.lights.push_back(directional_light("sun", {-0.4f, -0.5f, -0.8f}, glm::vec3(1.4f)));
   const float a = 30.0f * 3.14159265358979f / 180.0f;
-  cam.position = glm::vec3(0.0f, -std::sin(a), std::cos(a)) * 5.0f;
-  cam.target = glm::vec3(0.0f);
-  cam.yfov_deg = 40.0f;
-  cam.znear = 0.05f;
-  cam.zfar = 30.0f;
-  s.cameras.push_back(cam);
+  s.cameras.push_back(look_at("view", glm::vec3(0.0f, -std::sin(a), std::cos(a)) * 5.0f,
+                              glm::vec3(0.0f), 40.0f, 30.0f));
   s.ambient = glm::vec3(0.1f);
   s.background = glm::vec4(0.05f, 0.06f, 0.08f, 1.0f);
   return s;

@@ -15,6 +15,7 @@
 #include <glm/geometric.hpp>
 
 #include "bake/normal_map.h"
+#include "scene/builtin_parts.h"
 #include "scene/mesh_prep.h"
 
 namespace relief {
@@ -230,34 +231,11 @@ Result<Scene> make_room_scene() {
     add(make_column(c, 0.3f, 3.2f), kColumnMat);
   add(make_sphere({0.0f, 0.85f, -0.6f}, 0.85f, 48, 24), kSphereMat);
 
-  Light spot;
-  spot.name = "spot";
-  spot.type = LightType::kSpot;
-  spot.position = glm::vec3(2.2f, 3.7f, 2.6f);
-  spot.direction = glm::normalize(glm::vec3(-0.4f, 0.3f, -0.9f) - spot.position);
-  spot.color = glm::vec3(1.0f, 0.93f, 0.82f);
-  spot.intensity = 34.0f;
-  spot.inner_cone_deg = 38.0f;
-  spot.outer_cone_deg = 52.0f;
-  spot.casts_shadows = true;
-  spot.shadow_resolution = 1024;
-  s.lights.push_back(spot);
-  Light fill;
-  fill.name = "fill";
-  fill.type = LightType::kDirectional;
-  fill.direction = glm::normalize(glm::vec3(0.5f, -0.6f, -0.6f));
-  fill.color = glm::vec3(0.55f, 0.62f, 0.75f);
-  fill.intensity = 0.35f;
-  s.lights.push_back(fill);
+  s.lights.push_back(shadow_spot({2.2f, 3.7f, 2.6f}, {-0.4f, 0.3f, -0.9f}, {1.0f, 0.93f, 0.82f},
+                                 34.0f, 38.0f, 52.0f));
+  s.lights.push_back(directional_light("fill", {0.5f, -0.6f, -0.6f}, {0.55f, 0.62f, 0.75f}, 0.35f));
 
-  Camera cam;
-  cam.name = "entrance";
-  cam.position = glm::vec3(0.0f, 2.1f, 7.4f);
-  cam.target = glm::vec3(0.0f, 1.1f, -0.6f);
-  cam.yfov_deg = 55.0f;
-  cam.znear = 0.05f;
-  cam.zfar = 30.0f;
-  s.cameras.push_back(cam);
+  s.cameras.push_back(look_at("entrance", {0.0f, 2.1f, 7.4f}, {0.0f, 1.1f, -0.6f}, 55.0f, 30.0f));
   s.ambient = glm::vec3(0.05f);
   s.background = glm::vec4(0.02f, 0.02f, 0.03f, 1.0f);
   return s;

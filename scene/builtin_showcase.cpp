@@ -11,13 +11,16 @@
 #include <cmath>
 
 #include "scene/builtin_curved.h"
+#include "scene/builtin_parts.h"
 #include "scene/builtin_room.h"
 #include "scene/mesh_prep.h"
 
 namespace relief {
 namespace {
 
-float fract(float x) { return x - std::floor(x); }
+float fract(float x) {
+  return x - std::floor(x);
+}
 
 // Square slabs with deep mortar joints, 3 x 3 per tile; slabs slightly domed.
 ReliefTexel slabs(float u, float v) {
@@ -25,7 +28,8 @@ ReliefTexel slabs(float u, float v) {
   const float edge = std::min({fu, 1.0f - fu, fv, 1.0f - fv});  // 0 on a joint, 0.5 inside
   const float depth = edge < 0.06f ? 1.0f : 0.15f * (1.0f - std::min(1.0f, edge / 0.5f));
   const int cell = static_cast<int>(std::floor(u * 3.0f)) + static_cast<int>(std::floor(v * 3.0f));
-  const glm::vec3 stone = (cell & 1) ? glm::vec3(0.62f, 0.58f, 0.52f) : glm::vec3(0.55f, 0.52f, 0.5f);
+  const glm::vec3 stone =
+      (cell & 1) ? glm::vec3(0.62f, 0.58f, 0.52f) : glm::vec3(0.55f, 0.52f, 0.5f);
   return {depth, edge < 0.06f ? glm::vec3(0.2f, 0.19f, 0.18f) : stone};
 }
 
@@ -81,26 +85,6 @@ Mesh floor_quad(float half, float tiles) {
   return m;
 }
 
-Camera look(const std::string& name, glm::vec3 eye, glm::vec3 target, float yfov) {
-  Camera c;
-  c.name = name;
-  c.position = eye;
-  c.target = target;
-  c.yfov_deg = yfov;
-  c.znear = 0.05f;
-  c.zfar = 40.0f;
-  return c;
-}
-
-Light sun(glm::vec3 direction, float intensity) {
-  Light l;
-  l.name = "sun";
-  l.type = LightType::kDirectional;
-  l.direction = glm::normalize(direction);
-  l.intensity = intensity;
-  return l;
-}
-
 }  // namespace
 
 Result<Scene> make_interpenetration_scene() {
@@ -137,8 +121,8 @@ Result<Scene> make_interpenetration_scene() {
   s.instances.push_back({add_mesh(s, tube), kRings, translation({1.1f, 0.0f, -0.6f})});
   s.instances.push_back({add_mesh(s, tube), kFlutes, translation({1.1f, 0.0f, -0.6f})});
 
-  s.lights.push_back(sun({-0.4f, -0.8f, -0.5f}, 1.3f));
-  s.cameras.push_back(look("front", {0.2f, 1.9f, 3.6f}, {0.2f, 0.1f, 0.0f}, 45.0f));
+  s.lights.push_back(directional_light("sun", {-0.4f, -0.8f, -0.5f}, glm::vec3(1.0f), 1.3f));
+  s.cameras.push_back(look_at("front", {0.2f, 1.9f, 3.6f}, {0.2f, 0.1f, 0.0f}, 45.0f, 40.0f));
   s.ambient = glm::vec3(0.08f);
   s.background = glm::vec4(0.05f, 0.06f, 0.08f, 1.0f);
   return s;
@@ -158,21 +142,10 @@ Result<Scene> make_teatime_scene() {
   const int teapot = add_mesh(s, make_teapot(10, 1.4f, {2, 2}));
   s.instances.push_back({teapot, 1, glm::mat4(1.0f)});
 
-  Light spot;
-  spot.name = "spot";
-  spot.type = LightType::kSpot;
-  spot.position = glm::vec3(-2.0f, 3.6f, 1.6f);
-  spot.direction = glm::normalize(glm::vec3(0.2f, 0.3f, -0.2f) - spot.position);
-  spot.color = glm::vec3(1.0f, 0.94f, 0.85f);
-  spot.intensity = 24.0f;
-  spot.inner_cone_deg = 30.0f;
-  spot.outer_cone_deg = 45.0f;
-  spot.casts_shadows = true;
-  spot.shadow_resolution = 1024;
-  s.lights.push_back(spot);
-  s.lights.push_back(sun({0.5f, -0.6f, -0.4f}, 0.25f));
-  s.lights.back().name = "fill";
-  s.cameras.push_back(look("table", {0.6f, 2.2f, 4.2f}, {0.0f, 0.55f, 0.0f}, 40.0f));
+  s.lights.push_back(shadow_spot({-2.0f, 3.6f, 1.6f}, {0.2f, 0.3f, -0.2f}, {1.0f, 0.94f, 0.85f},
+                                 24.0f, 30.0f, 45.0f));
+  s.lights.push_back(directional_light("fill", {0.5f, -0.6f, -0.4f}, glm::vec3(1.0f), 0.25f));
+  s.cameras.push_back(look_at("table", {0.6f, 2.2f, 4.2f}, {0.0f, 0.55f, 0.0f}, 40.0f, 40.0f));
   s.ambient = glm::vec3(0.05f);
   s.background = glm::vec4(0.03f, 0.03f, 0.04f, 1.0f);
   return s;
