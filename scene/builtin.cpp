@@ -234,6 +234,15 @@ const char* default_scene_name() {
   return "room";
 }
 
+TexturePtr texture_level0(const Texture& t) {
+  std::vector<float> v(static_cast<size_t>(t.width(0)) * t.height(0));
+  for (int y = 0; y < t.height(0); ++y)
+    for (int x = 0; x < t.width(0); ++x)
+      v[static_cast<size_t>(y) * t.width(0) + x] = t.fetch_r(0, x, y);
+  return std::make_shared<Texture>(
+      Texture::from_floats(t.format(), t.width(0), t.height(0), v.data()));
+}
+
 Result<Scene> make_builtin_scene(const std::string& name) {
   if (name == "plane") return make_plane();
   if (name == "room") return make_room_scene();

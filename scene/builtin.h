@@ -31,4 +31,8 @@ Result<Scene> make_builtin_scene(const std::string& name);
 inline constexpr int kPatternSize = 256;
 Texture make_pattern_depth(int size);
 
+// Level 0 of `t`'s first channel as a texture of the same format without mips (a depth map a
+// search can only read at full resolution).
+TexturePtr texture_level0(const Texture& t);
+
 }  // namespace relief

@@ -19,16 +19,6 @@
 namespace relief::sweep {
 namespace {
 
-// Level 0 of the first channel of `t`, without mips.
-TexturePtr level0(const Texture& t) {
-  std::vector<float> v(static_cast<size_t>(t.width(0)) * t.height(0));
-  for (int y = 0; y < t.height(0); ++y)
-    for (int x = 0; x < t.width(0); ++x)
-      v[static_cast<size_t>(y) * t.width(0) + x] = t.fetch_r(0, x, y);
-  return std::make_shared<Texture>(
-      Texture::from_floats(t.format(), t.width(0), t.height(0), v.data()));
-}
-
 // Pale at the top, dark blue at the bottom (as the pattern scene): a wrong hit shows in colour.
 TexturePtr depth_colour(const Texture& depth) {
   const int w = depth.width(0), h = depth.height(0);
@@ -75,7 +65,7 @@ Result<Field> field_of_material(const Scene& scene, int material) {
   fm.sampler = m.sampler;
   fm.self_shadow = true;
   fm.depth_write = true;
-  fm.textures["depth"] = level0(*depth->second);
+  fm.textures["depth"] = texture_level0(*depth->second);
   auto dsc = m.params.find("depth_scale");
   fm.params["depth_scale"] = dsc != m.params.end() ? dsc->second : kDepthScaleSpec.default_value;
   auto color = m.textures.find("base_color");
