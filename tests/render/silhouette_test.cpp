@@ -12,6 +12,7 @@
 
 #include "rasterizer/texture.h"
 #include "scene/builtin_curved.h"
+#include "tests/render/depth_fixture.h"
 #include "tests/render/coverage.h"
 
 namespace relief {
@@ -26,17 +27,6 @@ using test::MaskDiff;
 
 Mask render_coverage(const Scene& scene, const std::string& technique) {
   return test::render_coverage(scene, technique, kWidth, kHeight);
-}
-
-// The depth map without its mips, so the shader (which picks a LOD per quad) and the displaced
-// mesh read the same bilinear field.
-std::shared_ptr<Texture> level0(const Texture& d) {
-  std::vector<float> v(static_cast<size_t>(d.width(0)) * d.height(0));
-  for (int y = 0; y < d.height(0); ++y)
-    for (int x = 0; x < d.width(0); ++x)
-      v[static_cast<size_t>(y) * d.width(0) + x] = d.fetch_r(0, x, y);
-  return std::make_shared<Texture>(
-      Texture::from_floats(d.format(), d.width(0), d.height(0), v.data()));
 }
 
 // The sphere scene's sphere (radius 1, uv tiles 4 x 2) as a (ns x nt)-cell mesh displaced inward
@@ -67,7 +57,9 @@ SphereCase sphere_case(float constant = -1.0f) {
   SphereCase c{std::move(made).value(), {}};
   Material& mat = c.relief_mapped.materials.at(0);
   EXPECT_EQ(mat.technique, "relief_quadric");
-  mat.textures["depth"] = level0(*mat.textures.at("depth"));
+  // The depth map without its mips, so the shader (which picks a LOD per quad) and the displaced
+  // mesh read the same bilinear field.
+  mat.textures["depth"] = level0_only(*mat.textures.at("depth"));
   if (constant >= 0.0f) {
     const std::vector<float> v(64 * 64, constant);
     mat.textures["depth"] =
