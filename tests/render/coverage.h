@@ -4,12 +4,14 @@
 
 #include <algorithm>
 #include <cstdlib>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include <gtest/gtest.h>
 
 #include "render/render.h"
+#include "tests/render/cpu_frame.h"
 
 namespace relief::test {
 
@@ -70,19 +72,10 @@ struct MaskDiff {
 // fails.
 inline Mask render_coverage(const Scene& scene, const std::string& technique, int width,
                             int height) {
-  RenderOptions opt;
-  opt.width = width;
-  opt.height = height;
-  opt.threads = 2;
-  opt.technique = technique;
+  RenderOptions opt = cpu_options(width, height, technique);
   opt.shadows = false;
-  Result<Plan> plan = make_plan(scene, opt);
-  EXPECT_TRUE(plan.ok()) << technique << ": " << plan.status().message();
-  if (!plan.ok()) return {};
-  Result<RenderResult> r = make_cpu_backend(2)->render(scene, *plan, opt);
-  EXPECT_TRUE(r.ok()) << technique;
-  if (!r.ok()) return {};
-  return coverage(r->framebuffer);
+  const std::optional<Framebuffer> fb = render_frame(scene, opt);
+  return fb ? coverage(*fb) : Mask{};
 }
 
 inline MaskDiff compare_masks(const Mask& a, const Mask& b, int radius = 2) {

@@ -25,6 +25,7 @@
 #include "shaders_cpp/exact.h"
 #include "shaders_cpp/miss_analysis.h"
 #include "sweep/sweep.h"
+#include "tests/render/cpu_frame.h"
 
 namespace relief {
 namespace {
@@ -42,21 +43,11 @@ Scene builtin(const std::string& name) {
 std::optional<Framebuffer> render(const Scene& scene, const std::string& technique,
                                   const Params& params = {}, int width = 320, int height = 180,
                                   bool scalar = false) {
-  RenderOptions opt;
-  opt.width = width;
-  opt.height = height;
-  opt.threads = 2;
-  opt.technique = technique;
+  RenderOptions opt = test::cpu_options(width, height, technique);
   opt.params = params;
   opt.scalar_lanes = scalar;
   opt.aovs = aov_bit(Aov::kHitUv) | aov_bit(Aov::kHitDepth);
-  Result<Plan> plan = make_plan(scene, opt);
-  EXPECT_TRUE(plan.ok()) << technique << ": " << plan.status().message();
-  if (!plan.ok()) return std::nullopt;
-  Result<RenderResult> r = make_cpu_backend(2)->render(scene, *plan, opt);
-  EXPECT_TRUE(r.ok()) << technique;
-  if (!r.ok()) return std::nullopt;
-  return std::move(r->framebuffer);
+  return test::render_frame(scene, opt);
 }
 
 // The registered techniques that search a depth map (a required `depth` texture slot).

@@ -13,6 +13,7 @@
 #include "render/render.h"
 #include "scene/builtin_bending.h"
 #include "scene/mesh_prep.h"
+#include "tests/render/cpu_frame.h"
 
 namespace relief {
 namespace {
@@ -146,11 +147,7 @@ Framebuffer render(const Scene& scene, int w, int h, AovMask aovs = 0) {
   opt.width = w;
   opt.height = h;
   opt.aovs = aovs;
-  Result<Plan> plan = make_plan(scene, opt);
-  EXPECT_TRUE(plan.ok());
-  Result<RenderResult> r = make_cpu_backend(2)->render(scene, *plan, opt);
-  EXPECT_TRUE(r.ok());
-  return std::move(r->framebuffer);
+  return test::render_frame(scene, opt).value_or(Framebuffer{});
 }
 
 TEST(Skin, BindPoseRendersBitIdenticallyToTheUnskinnedMesh) {

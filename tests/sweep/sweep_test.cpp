@@ -17,6 +17,7 @@
 #include "scene/builtin.h"
 #include "shaders_cpp/exact.h"
 #include "sweep/sweep.h"
+#include "tests/render/cpu_frame.h"
 
 namespace relief::sweep {
 namespace {
@@ -200,11 +201,7 @@ TEST(Sweep, ViewRayStepIsTheOneExactHitsLieOn) {
     ro.aovs = aov_bit(Aov::kHitUv) | aov_bit(Aov::kHitDepth);
     auto render = [&](const std::string& t) {
       ro.technique = t;
-      Result<Plan> plan = make_plan(scene, ro);
-      EXPECT_TRUE(plan.ok());
-      Result<RenderResult> r = make_cpu_backend(2)->render(scene, *plan, ro);
-      EXPECT_TRUE(r.ok());
-      return std::move(r->framebuffer);
+      return test::render_frame(scene, ro).value_or(Framebuffer{});
     };
     const Framebuffer geo = render("normal"), ex = render("exact");
     const glm::dvec2 ds = view_ray_step(field, angle);
