@@ -4,10 +4,6 @@
 // and why, and bad input is one line, a non-zero exit and no output file. Tiny sizes throughout.
 #include <gtest/gtest.h>
 
-#include <sys/wait.h>
-
-#include <array>
-#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -18,25 +14,9 @@
 
 #include <nlohmann/json.hpp>
 
+#include "apps/cli_run.h"
+
 namespace {
-
-struct CliRun {
-  int code;
-  std::string out;  // stdout and stderr
-};
-
-CliRun run_command(const std::string& cmd) {
-  CliRun r{-1, ""};
-  FILE* p = popen((cmd + " 2>&1").c_str(), "r");
-  std::array<char, 4096> buf;
-  while (fgets(buf.data(), buf.size(), p)) r.out += buf.data();
-  const int status = pclose(p);
-  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return r;
-}
-CliRun run(const std::string& args) {
-  return run_command(std::string(RELIEF_CLI) + " " + args);
-}
 
 std::string tmp(const std::string& name) {
   return (std::filesystem::path(testing::TempDir()) / name).string();
@@ -46,11 +26,6 @@ std::string slurp(const std::string& path) {
   std::ostringstream s;
   s << in.rdbuf();
   return s.str();
-}
-int lines(const std::string& s) {
-  int n = 0;
-  for (char c : s) n += c == '\n';
-  return n;
 }
 
 // The column names of docs/accuracy.md's "## Columns" table (first cell, in backticks).
@@ -128,16 +103,16 @@ TEST(BenchCli, CsvAndJsonHaveTheDocumentedColumns) {
 // data-plot-points. A broken page is the control: its error must be seen.
 std::string chromium() {
   for (const char* c : {"chromium", "chromium-browser"}) {
-    const CliRun r = run_command(std::string("command -v ") + c);
+    const CliRun r = run_shell(std::string("command -v ") + c);
     if (r.code == 0) return c;
   }
   return "";
 }
 CliRun headless(const std::string& browser, const std::string& file, std::string& console) {
   const std::string err = file + ".stderr";
-  // braces: run_command's trailing 2>&1 must not undo the redirection of the browser's stderr
+  // braces: run_shell's trailing 2>&1 must not undo the redirection of the browser's stderr
   const CliRun r =
-      run_command("{ timeout 120 " + browser +
+      run_shell("{ timeout 120 " + browser +
                   " --headless --no-sandbox --disable-gpu --enable-logging=stderr "
                   "--v=0 --user-data-dir=" +
                   file + ".profile" + " --dump-dom file://" + file + " 2>" + err + "; }");
