@@ -140,8 +140,11 @@ class Runner {
         return Status::error("no fragment covered (" + s.label + ")");
       m.fragments = static_cast<long>(p->raster.work.fragments);
       if (i >= opt_.warmup) m.ns.push_back(p->ms * 1e6 / static_cast<double>(m.fragments));
-      if (i + 1 == opt_.warmup + opt_.repeats) m.on = std::move(r->framebuffer);
       cpu_device_ = r->device;
+      if (i + 1 == opt_.warmup + opt_.repeats)
+        m.on = std::move(r->framebuffer);
+      else
+        cpu_->recycle(std::move(r).value());  // the next repeat reuses its buffers
     }
     // self-shadow off, and no lights: the sun's share of each pixel and whether it is shadowed
     Scene off = scene, dark = scene;
@@ -214,6 +217,7 @@ class Runner {
       gl_device_ = r->device;
       const PassStats* p = main_pass(*r);
       if (p && i >= opt_.warmup) ns.push_back(p->ms * 1e6 / static_cast<double>(fragments));
+      gl_->recycle(std::move(r).value());
     }
     return ns;
   }
