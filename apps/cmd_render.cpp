@@ -377,6 +377,7 @@ int do_render(const RenderArgs& a) {
     std::printf("\n");
     std::fflush(stdout);
     progress.draw(fi + 1);
+    (*backend)->recycle(std::move(r).value());  // the next frame reuses its buffers
   }
   if (frames.size() > 1) {
     std::sort(frame_ms.begin(), frame_ms.end());
