@@ -11,8 +11,8 @@
 #include <memory>
 
 #include "rasterizer/texture.h"
+#include "scene/builtin.h"
 #include "scene/builtin_curved.h"
-#include "tests/render/depth_fixture.h"
 #include "tests/render/coverage.h"
 
 namespace relief {
@@ -59,7 +59,7 @@ SphereCase sphere_case(float constant = -1.0f) {
   EXPECT_EQ(mat.technique, "relief_quadric");
   // The depth map without its mips, so the shader (which picks a LOD per quad) and the displaced
   // mesh read the same bilinear field.
-  mat.textures["depth"] = level0_only(*mat.textures.at("depth"));
+  mat.textures["depth"] = texture_level0(*mat.textures.at("depth"));
   if (constant >= 0.0f) {
     const std::vector<float> v(64 * 64, constant);
     mat.textures["depth"] =
