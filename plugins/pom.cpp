@@ -10,8 +10,8 @@ namespace {
 
 enum Param { kSteps, kMinSteps, kDepthScaleParam, kShadowStepsParam };
 const ParamSpec kParams[] = {
-    {"steps", ParamType::kInt, 32.0f, 1.0f, 256.0f, nullptr, "linear search steps at grazing angles"},
-    {"min_steps", ParamType::kInt, 8.0f, 1.0f, 256.0f, nullptr, "linear steps facing the surface (steps at grazing angles; mixed by |V.z|)"},
+    kLinearStepsSpec,
+    kMinStepsSpec,
     kDepthScaleSpec,
     kShadowStepsSpec,
 };

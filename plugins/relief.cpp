@@ -11,9 +11,9 @@ namespace {
 
 enum Param { kSteps, kBinarySteps, kMinSteps, kDepthScaleParam, kShadowStepsParam };
 const ParamSpec kParams[] = {
-    {"steps", ParamType::kInt, 32.0f, 1.0f, 256.0f, nullptr, "linear search steps at grazing angles"},
-    {"binary_steps", ParamType::kInt, 8.0f, 0.0f, 32.0f, nullptr, "binary search halvings after the linear search"},
-    {"min_steps", ParamType::kInt, 8.0f, 1.0f, 256.0f, nullptr, "linear steps facing the surface (steps at grazing angles; mixed by |V.z|)"},
+    kLinearStepsSpec,
+    kBinaryStepsSpec,
+    kMinStepsSpec,
     kDepthScaleSpec,
     kShadowStepsSpec,
 };

@@ -21,10 +21,8 @@ enum Param { kSteps, kBinarySteps, kMinSteps, kDepthScaleParam, kDistanceParam }
 const ParamSpec kParams[] = {
     {"steps", ParamType::kInt, 32.0f, 1.0f, 256.0f, nullptr,
      "linear search steps over [0, t_max] at grazing angles"},
-    {"binary_steps", ParamType::kInt, 8.0f, 0.0f, 32.0f, nullptr,
-     "binary search halvings after the linear search"},
-    {"min_steps", ParamType::kInt, 8.0f, 1.0f, 256.0f, nullptr,
-     "linear steps facing the surface (mixed with steps by |V.z|)"},
+    kBinaryStepsSpec,
+    kMinStepsSpec,
     kDepthScaleSpec,
     {"distance", ParamType::kEnum, 0.0f, 0.0f, 1.0f, "approximate|accurate",
      "ray-quadric distance: approximate (equation 7) or accurate (equation 6)"},

@@ -40,6 +40,15 @@ inline constexpr TextureSlotSpec kReliefSlots[] = {kBaseColorSlotSpec, kNormalSl
 
 inline constexpr ParamSpec kDepthScaleSpec = {"depth_scale", ParamType::kFloat, 0.05f, 0.0f, 1.0f,
                                               nullptr, "relief height in uv units"};
+// The search parameters of the linear + binary family (relief, pom, relief_dual, relief_quadric).
+inline constexpr ParamSpec kLinearStepsSpec = {"steps", ParamType::kInt, 32.0f, 1.0f, 256.0f, nullptr,
+                                               "linear search steps at grazing angles"};
+inline constexpr ParamSpec kBinaryStepsSpec = {"binary_steps", ParamType::kInt, 8.0f, 0.0f, 32.0f,
+                                               nullptr,
+                                               "binary search halvings after the linear search"};
+inline constexpr ParamSpec kMinStepsSpec = {
+    "min_steps", ParamType::kInt, 8.0f, 1.0f, 256.0f, nullptr,
+    "linear steps facing the surface (steps at grazing angles; mixed by |V.z|)"};
 inline constexpr ParamSpec kShadowStepsSpec = {
     "shadow_steps", ParamType::kInt, 32.0f, 1.0f, 256.0f, nullptr,
     "self-shadow ray steps over the full depth (self_shadow effect)"};
