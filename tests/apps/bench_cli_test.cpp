@@ -18,9 +18,6 @@
 
 namespace {
 
-std::string tmp(const std::string& name) {
-  return (std::filesystem::path(testing::TempDir()) / name).string();
-}
 std::string slurp(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
   std::ostringstream s;

@@ -8,10 +8,6 @@
 
 namespace {
 
-std::string tmp(const std::string& name) {
-  return (std::filesystem::path(testing::TempDir()) / name).string();
-}
-
 TEST(Cli, RenderWritesPngAndStats) {
   const std::string png = tmp("cli_ok.png"), stats = tmp("cli_ok.json");
   std::filesystem::remove(png);

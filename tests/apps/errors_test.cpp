@@ -15,8 +15,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-std::string tmp(const std::string& name) { return (fs::path(testing::TempDir()) / name).string(); }
-
 // Expects `args` to fail with `code`, one line on stderr holding `expect`, and `output` absent.
 void expect_error(const std::string& args, int code, const std::string& expect,
                   const std::string& output) {

@@ -19,10 +19,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-std::string tmp(const std::string& name) {
-  return (fs::path(testing::TempDir()) / name).string();
-}
-
 TEST(GlCli, InfoListsBackendsAndDevices) {
   const CliRun r = run("info");
   ASSERT_EQ(r.code, 0) << r.out;
