@@ -15,6 +15,7 @@
 #include "bake/cone_map.h"
 #include "bake/normal_map.h"
 #include "scene/image_io.h"
+#include "tests/test_dir.h"
 
 namespace relief {
 namespace {
@@ -24,11 +25,7 @@ namespace fs = std::filesystem;
 class CmdBake : public ::testing::Test {
  protected:
   void SetUp() override {
-    dir_ = fs::temp_directory_path() /
-           ("relief_cmd_bake_" + std::to_string(::getpid()) + "_" +
-            ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
+    dir_ = test::fresh_test_dir("relief_cmd_bake");
     // A 24x16 depth map in [0, 1] as 32-bit float EXR.
     Plane p(24, 16);
     std::mt19937 rng(5);

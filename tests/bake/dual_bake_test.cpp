@@ -1,8 +1,6 @@
 // `relief bake --dual MESH.gltf -o PREFIX` end to end (dual-depth relief textures, Policarpo,
 // Oliveira and Comba, I3D 2005, section 3.1): the CLI's four maps hold what bake_dual_depth
 // computes from the loaded scene; errors are one line with nothing left behind.
-#include <unistd.h>
-
 #include <algorithm>
 #include <filesystem>
 #include <string>
@@ -14,6 +12,7 @@
 #include "scene/gltf.h"
 #include "scene/image_io.h"
 #include "tests/apps/cli_run.h"
+#include "tests/test_dir.h"
 
 namespace relief {
 namespace {
@@ -23,11 +22,7 @@ namespace fs = std::filesystem;
 class DualBake : public ::testing::Test {
  protected:
   void SetUp() override {
-    dir_ = fs::temp_directory_path() /
-           ("relief_dual_bake_" + std::to_string(::getpid()) + "_" +
-            ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
+    dir_ = test::fresh_test_dir("relief_dual_bake");
     Result<Scene> s = make_curved_scene("sphere");
     ASSERT_TRUE(s.ok());
     mesh_ = path("sphere.gltf");

@@ -23,6 +23,7 @@
 #include "render/derived_maps.h"
 #include "render/render.h"
 #include "scene/builtin.h"
+#include "tests/test_dir.h"
 
 namespace relief {
 namespace {
@@ -35,9 +36,7 @@ const PluginDescriptor* const kCones[] = {&kConePlugin, &kConeQuadPlugin, &kRela
 class ConePlugins : public ::testing::Test {
  protected:
   void SetUp() override {
-    dir_ = fs::temp_directory_path() /
-           ("relief_cone_cache_" + std::to_string(::getpid()) + "_" +
-            ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    dir_ = test::test_dir_path("relief_cone_cache");
     fs::remove_all(dir_);
     ::setenv("RELIEF_CACHE_DIR", dir_.c_str(), 1);
     clear_derived_map_memory_cache();

@@ -4,7 +4,6 @@
 #include "scene/gltf.h"
 
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <algorithm>
 #include <cmath>
@@ -23,6 +22,7 @@
 #include "scene/animation.h"
 #include "scene/builtin.h"
 #include "scene/image_io.h"
+#include "tests/test_dir.h"
 
 namespace relief {
 namespace {
@@ -33,11 +33,7 @@ using json = nlohmann::json;
 class Gltf : public ::testing::Test {
  protected:
   void SetUp() override {
-    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    dir_ = fs::temp_directory_path() /
-           ("relief_gltf_" + std::to_string(::getpid()) + "_" + info->name());
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
+    dir_ = test::fresh_test_dir("relief_gltf");
   }
   void TearDown() override { fs::remove_all(dir_); }
   std::string path(const std::string& name) const { return (dir_ / name).string(); }

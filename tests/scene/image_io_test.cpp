@@ -3,7 +3,6 @@
 #include "scene/image_io.h"
 
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <OpenImageIO/imageio.h>
 
@@ -14,6 +13,8 @@
 #include <limits>
 #include <string>
 #include <vector>
+
+#include "tests/test_dir.h"
 
 namespace relief {
 namespace {
@@ -30,11 +31,7 @@ double srgb_decode(double c) {
 class ImageIo : public ::testing::Test {
  protected:
   void SetUp() override {
-    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    dir_ = fs::temp_directory_path() /
-           ("relief_image_io_" + std::to_string(::getpid()) + "_" + info->name());
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
+    dir_ = test::fresh_test_dir("relief_image_io");
   }
   void TearDown() override { fs::remove_all(dir_); }
   std::string path(const std::string& name) const { return (dir_ / name).string(); }
