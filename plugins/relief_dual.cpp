@@ -68,10 +68,7 @@ struct DualKernel {
                                 const TextureDepth& front, const Back& back) {
     const MaterialUniforms& m = *ctx.material;
     ShadeOut<F> o;
-    const TangentFrame<F> tf = fragment_frame(in);
-    const V3<F> w = world_view_dir(in.position, ctx.frame->eye, ctx.frame->orthographic,
-                                   ctx.frame->view_dir, -tf.n);
-    const V3<F> V = tf.to_tangent(w);
+    const auto [tf, w, V] = shell_view(ctx, in);
     const F depth_scale(m.params[kDepthScaleParam]);
     const V2<F> ds = texture_step(V, depth_scale);
     const mask_t<F> active = covered_lanes(in);
@@ -88,7 +85,7 @@ struct DualKernel {
     o.hit_depth = hit.depth;
     o.steps = hit.steps;
     o.fetches = hit.fetches;
-    const F world_height = depth_scale * (in.tile_scale.x + in.tile_scale.y) * F(0.5f);
+    const F world_height = relief_world_height(depth_scale, in);
     const V3<F> pos = hit_world_position(in.position, w, V.z, hit.depth, world_height);
     if constexpr (kDepth)
       o.depth = vmin(reversed_z_depth(ctx.frame->view_proj, pos, in.frag_z), in.frag_z);

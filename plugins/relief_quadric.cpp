@@ -45,17 +45,13 @@ struct QuadricKernel {
   static ShadeOut<F> shade_with(const ShadeContext& ctx, const FragIn<F>& in) {
     const MaterialUniforms& m = *ctx.material;
     ShadeOut<F> o;
-    const TangentFrame<F> tf = fragment_frame(in);
-    const V3<F> w = world_view_dir(in.position, ctx.frame->eye, ctx.frame->orthographic,
-                                   ctx.frame->view_dir, -tf.n);
-    const V3<F> V = tf.to_tangent(w);
+    const auto [tf, w, V] = shell_view(ctx, in);
     const F depth_scale(m.params[kDepthScaleParam]);
     const mask_t<F> active = covered_lanes(in);
     const TextureDepth depth = material_depth(m, in);
     // seen from the back the surface curves the other way
     const V2<F> q = in.front_facing ? in.quadric : V2<F>(-in.quadric.x, -in.quadric.y);
-    // relief depth in world units: depth_scale uv units (as in the relief shell)
-    const F sz = depth_scale * (in.tile_scale.x + in.tile_scale.y) * F(0.5f);
+    const F sz = relief_world_height(depth_scale, in);
     F t(0.0f), world_per_t(0.0f);
     V2<F> hit_uv = in.uv;
     if (depth.texture) {

@@ -41,8 +41,8 @@ inline constexpr TextureSlotSpec kReliefSlots[] = {kBaseColorSlotSpec, kNormalSl
 inline constexpr ParamSpec kDepthScaleSpec = {"depth_scale", ParamType::kFloat, 0.05f, 0.0f, 1.0f,
                                               nullptr, "relief height in uv units"};
 // The search parameters of the linear + binary family (relief, pom, relief_dual, relief_quadric).
-inline constexpr ParamSpec kLinearStepsSpec = {"steps", ParamType::kInt, 32.0f, 1.0f, 256.0f, nullptr,
-                                               "linear search steps at grazing angles"};
+inline constexpr ParamSpec kLinearStepsSpec = {"steps", ParamType::kInt, 32.0f, 1.0f, 256.0f,
+                                               nullptr, "linear search steps at grazing angles"};
 inline constexpr ParamSpec kBinaryStepsSpec = {"binary_steps", ParamType::kInt, 8.0f, 0.0f, 32.0f,
                                                nullptr,
                                                "binary search halvings after the linear search"};
@@ -79,6 +79,25 @@ template <class F> TextureDepth material_depth(const MaterialUniforms& m, const 
   return depth;
 }
 
+// The fragment's tangent frame tf, the unit world direction w from the eye to the fragment
+// (shaders_cpp/ray.h world_view_dir) and V, w in tangent space.
+template <class F> struct ShellView {
+  TangentFrame<F> tf;
+  V3<F> w, V;
+};
+template <class F> ShellView<F> shell_view(const ShadeContext& ctx, const FragIn<F>& in) {
+  const TangentFrame<F> tf = fragment_frame(in);
+  const V3<F> w = world_view_dir(in.position, ctx.frame->eye, ctx.frame->orthographic,
+                                 ctx.frame->view_dir, -tf.n);
+  return {tf, w, tf.to_tangent(w)};
+}
+
+// The relief's full depth in world units: depth_scale uv units at the fragment's tile scale
+// (world units per uv along T and B, scene/mesh_prep.cpp).
+template <class F> F relief_world_height(const F& depth_scale, const FragIn<F>& in) {
+  return depth_scale * (in.tile_scale.x + in.tile_scale.y) * F(0.5f);
+}
+
 template <class Search, EffectMask kEffects> struct ReliefKernel {
   static constexpr bool kShadow = (kEffects & kEffectSelfShadow) != 0;
   static constexpr bool kDepth = (kEffects & (kEffectDepthWrite | kEffectShadowPass)) != 0;
@@ -88,10 +107,7 @@ template <class Search, EffectMask kEffects> struct ReliefKernel {
   template <class F> static ShadeOut<F> shade(const ShadeContext& ctx, const FragIn<F>& in) {
     const MaterialUniforms& m = *ctx.material;
     ShadeOut<F> o;
-    const TangentFrame<F> tf = fragment_frame(in);
-    const V3<F> w = world_view_dir(in.position, ctx.frame->eye, ctx.frame->orthographic,
-                                   ctx.frame->view_dir, -tf.n);
-    const V3<F> V = tf.to_tangent(w);
+    const auto [tf, w, V] = shell_view(ctx, in);
     const F depth_scale(m.params[Search::kDepthScale]);
     const V2<F> ds = texture_step(V, depth_scale);
     const mask_t<F> active = covered_lanes(in);
@@ -103,8 +119,7 @@ template <class Search, EffectMask kEffects> struct ReliefKernel {
     o.hit_depth = hit.depth;
     o.steps = hit.steps;
     o.fetches = hit.fetches;
-    // world units per uv along T and B (scene/mesh_prep.cpp tile scale)
-    const F world_height = depth_scale * (in.tile_scale.x + in.tile_scale.y) * F(0.5f);
+    const F world_height = relief_world_height(depth_scale, in);
     const V3<F> pos = hit_world_position(in.position, w, V.z, hit.depth, world_height);
     if constexpr (kDepth) o.depth = vmin(reversed_z_depth(ctx.frame->view_proj, pos, in.frag_z), in.frag_z);
     if constexpr (kShadowPass) {
