@@ -26,3 +26,8 @@ inline std::filesystem::path fresh_test_dir(const std::string& prefix) {
 }
 
 }  // namespace relief::test
+
+// `name` in the test's temporary folder (gtest's TempDir, shared by the tests of a process).
+inline std::string tmp(const std::string& name) {
+  return (std::filesystem::path(::testing::TempDir()) / name).string();
+}

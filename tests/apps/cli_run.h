@@ -5,10 +5,9 @@
 
 #include <array>
 #include <cstdio>
-#include <filesystem>
 #include <string>
 
-#include <gtest/gtest.h>
+#include "tests/test_dir.h"  // tmp()
 
 struct CliRun {
   int code;
@@ -36,9 +35,4 @@ inline int lines(const std::string& s) {
   int n = 0;
   for (char c : s) n += c == '\n';
   return n;
-}
-
-// `name` in the test's temporary folder.
-inline std::string tmp(const std::string& name) {
-  return (std::filesystem::path(testing::TempDir()) / name).string();
 }

@@ -8,13 +8,10 @@
 
 #include "png_header.h"
 #include "scene/image_io.h"
+#include "tests/test_dir.h"
 
 namespace relief {
 namespace {
-
-std::string tmp(const std::string& name) {
-  return (std::filesystem::path(::testing::TempDir()) / name).string();
-}
 
 TEST(Limits, TextureSideAndTexelCountAreRefusedFromTheHeader) {
   struct Case {
