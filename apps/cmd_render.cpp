@@ -405,8 +405,11 @@ void register_render(CLI::App& app, Action& action) {
       ->capture_default_str();
   sub->add_option("--camera", a->camera,
                   "Camera by name or index (default: the first; see docs/scene-format.md)");
-  sub->add_option("--technique", a->technique, "Replace every material's technique (plugin)");
-  sub->add_option("--param", a->params, "Plugin parameter override key=value (repeatable)");
+  sub->add_option("--technique", a->technique,
+                  "Replace the technique of every relief material (one with a depth map)");
+  sub->add_option("--param", a->params,
+                  "Plugin parameter key=value, for every material whose technique has it "
+                  "(repeatable)");
   sub->add_option("--aov", a->aovs, "Extra output NAME=FILE: depth, uv, hit_depth, steps, normal");
   sub->add_option("--plugin", a->plugins, "Load an external plugin (.so)");
   sub->add_option("--stats", a->stats, "Write per-pass counters and timings as JSON");

@@ -185,10 +185,17 @@ Result<Plan> make_plan(const Scene& scene, const RenderOptions& opt) {
     return Status::usage("unknown technique '" + opt.technique + "' (see `relief techniques`)");
 
   RELIEF_RETURN_IF_ERROR(check_shadow_settings(opt.shadow));
+  // `--technique` replaces the technique of the relief materials (those with a depth map); the
+  // others (plain spheres through a relief floor, say) keep theirs. `--param key=value` goes to
+  // every material whose technique declares the key; a key no technique here declares is an error.
+  std::map<std::string, bool> param_used;
+  for (const auto& [k, v] : opt.params) param_used[k] = false;
   for (const Material& m : scene.materials) {
     BoundMaterial b;
     b.name = m.name;
-    const std::string technique = opt.technique.empty() ? m.technique : opt.technique;
+    const bool relief_material = m.textures.count("depth") != 0;
+    const std::string technique =
+        opt.technique.empty() || !relief_material ? m.technique : opt.technique;
     b.plugin = reg.find(technique);
     if (!b.plugin)
       return Status::error("material '" + m.name + "': unknown technique '" + technique + "'");
@@ -196,7 +203,13 @@ Result<Plan> make_plan(const Scene& scene, const RenderOptions& opt) {
     std::map<std::string, float> scene_params;
     for (const auto& [k, v] : m.params)
       if (param_index(*b.plugin, k.c_str()) >= 0) scene_params[k] = v;
-    Result<std::vector<float>> values = resolve_params(*b.plugin, scene_params, opt.params);
+    std::map<std::string, std::string> cli_params;
+    for (const auto& [k, v] : opt.params)
+      if (param_index(*b.plugin, k.c_str()) >= 0) {
+        cli_params[k] = v;
+        param_used[k] = true;
+      }
+    Result<std::vector<float>> values = resolve_params(*b.plugin, scene_params, cli_params);
     if (!values.ok()) return values.status().with_context("material '" + m.name + "'");
     for (size_t i = 0; i < values->size(); ++i) b.uniforms.params[i] = (*values)[i];
     for (int s = 0; s < b.plugin->num_textures; ++s) {
@@ -236,6 +249,12 @@ Result<Plan> make_plan(const Scene& scene, const RenderOptions& opt) {
     add_effect(b, kEffectSilhouette, m.silhouette, "silhouette");
     plan.materials.push_back(std::move(b));
   }
+  for (const auto& [key, used] : param_used)
+    if (!used && !plan.materials.empty()) {  // the first material's plugin names the key in its error
+      Result<std::vector<float>> none =
+          resolve_params(*plan.materials.front().plugin, {}, {{key, opt.params.at(key)}});
+      return Status::usage(none.status().message() + "; no technique in this scene declares it");
+    }
 
   const Camera& cam = scene.cameras[opt.camera];
   const float aspect = static_cast<float>(opt.width) / static_cast<float>(opt.height);

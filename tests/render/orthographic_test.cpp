@@ -13,14 +13,16 @@ TEST(Orthographic, FlatAndNormalShadeAPlaneUniformlyUnderParallelEyeRays) {
   for (const char* technique : {"flat", "normal"}) {
     Result<Scene> scene = make_builtin_scene("plane");
     ASSERT_TRUE(scene.ok());
-    for (Material& m : scene->materials) m.textures.clear();  // no colour, no normal map
+    for (Material& m : scene->materials) {
+      m.textures.clear();  // no colour, no normal map
+      m.technique = technique;
+    }
     Camera& cam = scene->cameras.at(0);
     cam.orthographic = true;
     cam.ortho_half_height = 0.6f;  // the plane fills the view
     RenderOptions opt;
     opt.width = 64;
     opt.height = 48;
-    opt.technique = technique;
     Result<Plan> plan = make_plan(*scene, opt);
     ASSERT_TRUE(plan.ok()) << plan.status().message();
     Result<RenderResult> r = make_cpu_backend(2)->render(*scene, *plan, opt);

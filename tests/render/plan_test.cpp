@@ -10,6 +10,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "plugins/registry.h"
 #include "render/render.h"
 #include "scene/builtin.h"
 #include "scene/builtin_room.h"
@@ -82,6 +83,40 @@ TEST(Plan, EveryBuiltinSceneListsExactlyTheExpectedPasses) {
     }
     EXPECT_EQ(pass_names(plan_of(*s)), it->second) << info.name;
   }
+}
+
+// --technique replaces the technique of relief materials only (the plain spheres of
+// `interpenetration` stay flat); --param reaches every material whose technique declares the key;
+// a key no technique of the scene declares is a usage error.
+TEST(Plan, TechniqueAndParamOverridesReachTheMaterialsTheyApplyTo) {
+  Result<Scene> s = make_builtin_scene("interpenetration");
+  ASSERT_TRUE(s.ok());
+  RenderOptions opt = small_options();
+  opt.technique = "exact";
+  const Plan p = plan_of(*s, opt);
+  ASSERT_EQ(p.materials.size(), s->materials.size());
+  int relief = 0;
+  for (size_t i = 0; i < s->materials.size(); ++i) {
+    const bool has_depth = s->materials[i].textures.count("depth") != 0;
+    relief += has_depth;
+    EXPECT_EQ(std::string(p.materials[i].plugin->name), has_depth ? "exact" : "flat")
+        << s->materials[i].name;
+  }
+  EXPECT_GT(relief, 0);
+  EXPECT_LT(relief, static_cast<int>(s->materials.size()));
+
+  opt.technique = "relief";
+  opt.params = {{"binary_steps", "3"}};  // relief has it, flat does not
+  const Plan q = plan_of(*s, opt);
+  const PluginDescriptor& rp = *q.materials[0].plugin;
+  ASSERT_EQ(std::string(rp.name), "relief");
+  EXPECT_EQ(q.materials[0].uniforms.params[param_index(rp, "binary_steps")], 3.0f);
+
+  opt.params = {{"no_such_parameter", "1"}};
+  Result<Plan> bad = make_plan(*s, opt);
+  ASSERT_FALSE(bad.ok());
+  EXPECT_EQ(bad.status().exit_code(), 2);
+  EXPECT_NE(bad.status().message().find("'no_such_parameter'"), std::string::npos);
 }
 
 TEST(Plan, RoomPlansReliefCastersAndReceivers) {
