@@ -14,6 +14,7 @@ const ParamSpec kParams[] = {kDepthScaleSpec};
 
 struct ExactSearch {
   static constexpr int kDepthScale = kDepthScaleParam;
+  static constexpr bool kSamplesDepthMap = false;  // the max-mip in ctx.state answers both rays
   template <class F>
   static SearchHit<F> search(const ShadeContext& ctx, const FragIn<F>& in, const TextureDepth&,
                              const V3<F>&, const V2<F>& ds, mask_t<F> active) {

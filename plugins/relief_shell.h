@@ -12,6 +12,8 @@
 //
 // A technique is a policy struct:
 //   static constexpr int kDepthScale;  // schema index of "depth_scale"
+//   static constexpr bool kSamplesDepthMap = false;  // optional: search and shadow never sample
+//                                                    // `depth` (no per-quad LOD is computed)
 //   // first hit of the ray uv + t * (ds, 1) in depth units; active = covered lanes
 //   template <class F> static SearchHit<F> search(const ShadeContext&, const FragIn<F>&,
 //       const TextureDepth& depth, const V3<F>& view_tangent, const V2<F>& ds, mask_t<F> active);
@@ -98,6 +100,14 @@ template <class F> F relief_world_height(const F& depth_scale, const FragIn<F>& 
   return depth_scale * (in.tile_scale.x + in.tile_scale.y) * F(0.5f);
 }
 
+// Whether a technique policy samples the depth map it is handed (true unless it says otherwise).
+template <class Search> constexpr bool samples_depth_map() {
+  if constexpr (requires { Search::kSamplesDepthMap; })
+    return Search::kSamplesDepthMap;
+  else
+    return true;
+}
+
 template <class Search, EffectMask kEffects> struct ReliefKernel {
   static constexpr bool kShadow = (kEffects & kEffectSelfShadow) != 0;
   static constexpr bool kDepth = (kEffects & (kEffectDepthWrite | kEffectShadowPass)) != 0;
@@ -111,10 +121,11 @@ template <class Search, EffectMask kEffects> struct ReliefKernel {
     const F depth_scale(m.params[Search::kDepthScale]);
     const V2<F> ds = texture_step(V, depth_scale);
     const mask_t<F> active = covered_lanes(in);
-    const Texture* dtex = m.textures[kDepthSlot];
-    const TextureDepth depth = material_depth(m, in);
+    const TextureDepth depth = samples_depth_map<Search>()
+                                   ? material_depth(m, in)
+                                   : TextureDepth{m.textures[kDepthSlot], &m.samplers[kDepthSlot]};
     SearchHit<F> hit{in.uv, F(0.0f), F(0.0f), F(0.0f)};
-    if (dtex) hit = Search::search(ctx, in, depth, V, ds, active);
+    if (depth.texture) hit = Search::search(ctx, in, depth, V, ds, active);
     o.hit_uv = hit.uv;
     o.hit_depth = hit.depth;
     o.steps = hit.steps;
@@ -131,7 +142,7 @@ template <class Search, EffectMask kEffects> struct ReliefKernel {
       auto visibility = [&](int i, V3<F> l, mask_t<F> lit) -> F {
         F vis(1.0f);
         if constexpr (kShadow) {
-          if (dtex) {
+          if (depth.texture) {
             const V3<F> lt = tf.to_tangent(l);
             vis = Search::shadow(ctx, depth, hit, light_step(lt, depth_scale), lt.z, active & lit,
                                  o);
