@@ -42,17 +42,10 @@ inline SearchHit<F> dual_depth_search(const Front& front, const Back& back, V2<F
     searching = searching & !in & !last;
   }
   F lo = t_out, hi = t_in;
-  mask_t<F> refine = found & (hi > lo);
-  for (int i = 0; i < m && any(refine); ++i) {
-    const F mid = (lo + hi) * F(0.5f);
+  bisect(lo, hi, found & (hi > lo), m, 2.0f, steps, fetches, [&](const F& mid, mask_t<F> refine) {
     const V2<F> p = uv + ds * mid;
-    const mask_t<F> in =
-        dual_inside(sample_depth(front, p, refine), sample_depth(back, p, refine), mid);
-    hi = select(refine & in, mid, hi);
-    lo = select(refine & !in, mid, lo);
-    steps += detail::count<F>(refine);
-    fetches += detail::count<F>(refine) * F(2.0f);
-  }
+    return dual_inside(sample_depth(front, p, refine), sample_depth(back, p, refine), mid);
+  });
   miss = active & !found;
   const F t_hit = select(found, hi, F(0.0f));
   return {uv + ds * t_hit, t_hit, steps, fetches};

@@ -166,16 +166,9 @@ inline QuadricHit<F> quadric_search(const Depth& depth, V2<F> uv, const QuadricR
   }
   // binary search between the last outside and the first inside sample
   F lo = t_out, hi = t_in;
-  mask_t<F> refine = found & (hi > lo);
-  for (int i = 0; i < m && any(refine); ++i) {
-    const F mid = (lo + hi) * F(0.5f);
-    const F h = sample_depth(depth, uv + duv * mid, refine);
-    const mask_t<F> in = h <= quadric_distance<kD>(r, mid);
-    hi = select(refine & in, mid, hi);
-    lo = select(refine & !in, mid, lo);
-    steps += detail::count<F>(refine);
-    fetches += detail::count<F>(refine);
-  }
+  bisect(lo, hi, found & (hi > lo), m, 1.0f, steps, fetches, [&](const F& mid, mask_t<F> refine) {
+    return sample_depth(depth, uv + duv * mid, refine) <= quadric_distance<kD>(r, mid);
+  });
   QuadricHit<F> out;
   out.t = select(found, hi, F(0.0f));
   out.miss = active & !found;

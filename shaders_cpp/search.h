@@ -114,22 +114,34 @@ inline SearchHit<F> linear_search(const Depth& depth, V2<F> uv, V2<F> ds, F n, m
   return {uv + ds * t_in, t_in, steps, fetches};
 }
 
+// m halvings of the brackets [lo, hi] of the lanes in `refine` (those with hi > lo): `inside(mid,
+// lanes)` tells which midpoints are inside; hi keeps the inside end, lo the outside one. Each
+// halving adds one step and `fetches_per_step` fetches per refined lane. The loop every bracketed
+// search shares (binary_search here, shaders_cpp/dual_depth.h, shaders_cpp/quadric.h).
+template <class F, class Inside>
+inline void bisect(F& lo, F& hi, mask_t<F> refine, int m, float fetches_per_step, F& steps,
+                   F& fetches, const Inside& inside) {
+  for (int i = 0; i < m && any(refine); ++i) {
+    const F mid = (lo + hi) * F(0.5f);
+    const mask_t<F> in = inside(mid, refine);
+    hi = select(refine & in, mid, hi);
+    lo = select(refine & !in, mid, lo);
+    steps += detail::count<F>(refine);
+    fetches += fetches_per_step == 1.0f ? detail::count<F>(refine)
+                                        : detail::count<F>(refine) * F(fetches_per_step);
+  }
+}
+
 // Binary search (m halvings) between the last outside and first inside depths of `b`: keeps the
 // half whose ends straddle the surface and returns the inside end. Adds to `hit`'s counters.
 template <class F, class Depth>
 inline SearchHit<F> binary_search(const Depth& depth, V2<F> uv, V2<F> ds, const Bracket<F>& b,
                                   int m, mask_t<F> active, SearchHit<F> hit) {
   F lo = b.t_out, hi = b.t_in;
-  mask_t<F> refine = active & (hi > lo);
-  for (int i = 0; i < m && any(refine); ++i) {
-    F mid = (lo + hi) * F(0.5f);
-    F d = sample_depth(depth, uv + ds * mid, refine);
-    mask_t<F> inside = d <= mid;
-    hi = select(refine & inside, mid, hi);
-    lo = select(refine & !inside, mid, lo);
-    hit.steps += detail::count<F>(refine);
-    hit.fetches += detail::count<F>(refine);
-  }
+  bisect(lo, hi, active & (hi > lo), m, 1.0f, hit.steps, hit.fetches,
+         [&](const F& mid, mask_t<F> refine) {
+           return sample_depth(depth, uv + ds * mid, refine) <= mid;
+         });
   hit.depth = select(active, hi, hit.depth);
   hit.uv = select(active, uv + ds * hi, hit.uv);
   return hit;
