@@ -27,7 +27,7 @@ class DualBake : public ::testing::Test {
     ASSERT_TRUE(s.ok());
     mesh_ = path("sphere.gltf");
     ASSERT_TRUE(save_gltf(*s, mesh_).ok());
-    for (const auto& e : fs::directory_iterator(dir_)) inputs_ += 1;
+    for ([[maybe_unused]] const auto& e : fs::directory_iterator(dir_)) inputs_ += 1;
   }
   void TearDown() override { fs::remove_all(dir_); }
   std::string path(const std::string& name) const { return (dir_ / name).string(); }

@@ -23,16 +23,18 @@ inline Context* shared_context(std::string* why) {
     return std::move(*c);
   }();
   if (why) *why = reason;
-  if (ctx) EXPECT_TRUE(ctx->make_current().ok());
+  if (ctx) {
+    EXPECT_TRUE(ctx->make_current().ok());
+  }
   return ctx.get();
 }
 
 }  // namespace relief::gl::testing
 
 // Skips the test (printing why) when no EGL display can be created at all.
-#define RELIEF_REQUIRE_GL()                                                  \
-  do {                                                                       \
-    std::string relief_why_;                                                 \
-    if (!::relief::gl::testing::shared_context(&relief_why_))                \
-      GTEST_SKIP() << "no OpenGL through EGL here: " << relief_why_;         \
+#define RELIEF_REQUIRE_GL()                                          \
+  do {                                                               \
+    std::string relief_why_;                                         \
+    if (!::relief::gl::testing::shared_context(&relief_why_))        \
+      GTEST_SKIP() << "no OpenGL through EGL here: " << relief_why_; \
   } while (0)

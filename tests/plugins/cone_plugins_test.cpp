@@ -132,8 +132,12 @@ TEST_F(ConePlugins, EveryVariantShadesFiniteAndLanePathsAgree) {
       // at least one cone step (two fetches) per covered fragment
       EXPECT_GE(w8.search_steps, 62u) << p->name;
       EXPECT_GE(w8.texture_fetches, 2 * w8.search_steps - 62u * 6) << p->name;
-      if (e & kEffectSelfShadow) EXPECT_GT(w8.shadow_steps, 0u) << p->name;
-      if (e == 0) EXPECT_EQ(w8.shadow_steps, 0u) << p->name;
+      if (e & kEffectSelfShadow) {
+        EXPECT_GT(w8.shadow_steps, 0u) << p->name;
+      }
+      if (e == 0) {
+        EXPECT_EQ(w8.shadow_steps, 0u) << p->name;
+      }
     }
   }
 }

@@ -10,8 +10,8 @@
 #include <memory>
 #include <vector>
 
-#include "plugins/plugin.h"
 #include "packet_fixture.h"
+#include "plugins/plugin.h"
 #include "plugins/registry.h"
 
 namespace relief {
@@ -119,7 +119,9 @@ TEST(Techniques, EveryVariantShadesFiniteAndLanePathsAgree) {
         if (e & (kEffectDepthWrite | kEffectShadowPass)) {
           ASSERT_LE(o8->depth[ln], s.packet.frag_z[ln]) << p->name;  // never closer
           ASSERT_GE(o8->depth[ln], 0.0f);
-          if (hd > 0.05f) ASSERT_LT(o8->depth[ln], s.packet.frag_z[ln]) << p->name;
+          if (hd > 0.05f) {
+            ASSERT_LT(o8->depth[ln], s.packet.frag_z[ln]) << p->name;
+          }
         }
       }
       EXPECT_EQ(std::memcmp(o8->color, o1->color, sizeof(o8->color)), 0) << p->name << " " << e;
@@ -129,8 +131,12 @@ TEST(Techniques, EveryVariantShadesFiniteAndLanePathsAgree) {
       EXPECT_EQ(w8.search_steps, w1.search_steps) << p->name;
       EXPECT_EQ(w8.shadow_steps, w1.shadow_steps) << p->name;
       EXPECT_GE(w8.search_steps, static_cast<uint64_t>(kPacketLanes)) << p->name;
-      if (e & kEffectSelfShadow) EXPECT_GT(w8.shadow_steps, 0u) << p->name;
-      if (e == 0) EXPECT_EQ(w8.shadow_steps, 0u) << p->name;
+      if (e & kEffectSelfShadow) {
+        EXPECT_GT(w8.shadow_steps, 0u) << p->name;
+      }
+      if (e == 0) {
+        EXPECT_EQ(w8.shadow_steps, 0u) << p->name;
+      }
     }
   }
 }
@@ -168,8 +174,9 @@ TEST(Techniques, ReliefMatchesExactPlugin) {
 TEST(Techniques, SchemasAndEffects) {
   for (const PluginDescriptor* p : relief_plugins()) {
     EXPECT_EQ(p->abi_version, kPluginAbiVersion);
-    if (std::string(p->name) != "relief_quadric")  // shadow maps only (quadric paper, 3.5)
+    if (std::string(p->name) != "relief_quadric") {  // shadow maps only (quadric paper, 3.5)
       EXPECT_NE(p->supported_effects & kEffectSelfShadow, 0u) << p->name;
+    }
     EXPECT_EQ(p->depth_output(kEffectDepthWrite), DepthOutput::kFarther) << p->name;
     EXPECT_EQ(p->depth_output(0), DepthOutput::kNone) << p->name;
     bool has_scale = false;

@@ -238,8 +238,9 @@ TEST(Skin, TheReliefTexelUnderATrackedVertexStaysUnderIt) {
         << m.uvs[v].y;
     // Where the undeformed vertex would project, the texel is another one: the test can fail.
     const glm::ivec2 old_px = pixel_of(rest.positions[v]);
-    if (old_px.x >= 0 && old_px.y >= 0 && old_px.x < w && old_px.y < h)
+    if (old_px.x >= 0 && old_px.y >= 0 && old_px.x < w && old_px.y < h) {
       EXPECT_GT(glm::length(uv_at(old_px) - m.uvs[v]), 3.0f * tolerance) << ring;
+    }
     ++checked;
   }
   EXPECT_EQ(checked, 8);
