@@ -45,7 +45,9 @@ struct QuadricKernel {
   static ShadeOut<F> shade_with(const ShadeContext& ctx, const FragIn<F>& in) {
     const MaterialUniforms& m = *ctx.material;
     ShadeOut<F> o;
-    const auto [tf, w, V] = shell_view(ctx, in);
+    const ShellView<F> view = shell_view(ctx, in);
+    const TangentFrame<F>& tf = view.tf;
+    const V3<F>& w = view.w, &V = view.V;
     const F depth_scale(m.params[kDepthScaleParam]);
     const mask_t<F> active = covered_lanes(in);
     const TextureDepth depth = material_depth(m, in);

@@ -82,7 +82,8 @@ template <class F> TextureDepth material_depth(const MaterialUniforms& m, const 
 }
 
 // The fragment's tangent frame tf, the unit world direction w from the eye to the fragment
-// (shaders_cpp/ray.h world_view_dir) and V, w in tangent space.
+// (shaders_cpp/ray.h world_view_dir) and V, w in tangent space. Callers bind references to the
+// members, not a structured binding: clang before 16 cannot capture one in a lambda.
 template <class F> struct ShellView {
   TangentFrame<F> tf;
   V3<F> w, V;
@@ -117,7 +118,9 @@ template <class Search, EffectMask kEffects> struct ReliefKernel {
   template <class F> static ShadeOut<F> shade(const ShadeContext& ctx, const FragIn<F>& in) {
     const MaterialUniforms& m = *ctx.material;
     ShadeOut<F> o;
-    const auto [tf, w, V] = shell_view(ctx, in);
+    const ShellView<F> view = shell_view(ctx, in);
+    const TangentFrame<F>& tf = view.tf;
+    const V3<F>& w = view.w, &V = view.V;
     const F depth_scale(m.params[Search::kDepthScale]);
     const V2<F> ds = texture_step(V, depth_scale);
     const mask_t<F> active = covered_lanes(in);
