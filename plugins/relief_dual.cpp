@@ -40,6 +40,7 @@ const TextureSlotSpec kDualSlots[] = {
 
 // The back layer when no map is bound: the object reaches depth 1 everywhere.
 struct FullDepth {
+  static constexpr float kFetches = 0.0f;  // a constant: no texture read
   float operator()(int, float, float) const { return 1.0f; }
 };
 
@@ -104,7 +105,8 @@ struct DualKernel {
           const V3<F> nb = sample_normal_map(m, kBackNormalSlot, tf, hit.uv, in, F(1.0f), fetches);
           n = select(on_back, nb, n);
         }
-        o.fetches += F(2.0f) + select(on_back, F(1.0f), F(0.0f));
+        o.fetches +=
+            F(read_cost<TextureDepth>() + read_cost<Back>()) + select(on_back, F(1.0f), F(0.0f));
       }
       const V3<F> albedo = sample_albedo(m, kBaseColorSlot, hit.uv, in, o.fetches);
       auto visibility = [&](int i, V3<F> l, mask_t<F> lit) -> F {

@@ -11,6 +11,16 @@
 
 namespace relief {
 
+// Texture fetches one read of a depth source costs: 1, or the source's own kFetches (0 for a
+// constant layer such as relief_dual's back layer when no map is bound).
+template <class D>
+constexpr float read_cost() {
+  if constexpr (requires { D::kFetches; })
+    return D::kFetches;
+  else
+    return 1.0f;
+}
+
 // Inside the object between the two layers.
 template <class F>
 inline mask_t<F> dual_inside(F front, F back, F t) {
@@ -20,10 +30,11 @@ inline mask_t<F> dual_inside(F front, F back, F t) {
 // Linear search with n steps per lane (t_i = i / n, i = 0..n) for the first sample inside, then m
 // binary halvings between the last outside and the first inside sample. Unlike the single-layer
 // search, depth 1 is not inside by itself: a ray that finds no inside sample misses the object
-// (returned in `miss`, its hit left at uv, depth 0). One step reads both layers: two fetches.
+// (returned in `miss`, its hit left at uv, depth 0). One step reads both layers (read_cost each).
 template <class F, class Front, class Back>
 inline SearchHit<F> dual_depth_search(const Front& front, const Back& back, V2<F> uv, V2<F> ds, F n,
                                       int m, mask_t<F> active, mask_t<F>& miss) {
+  constexpr float kPerStep = read_cost<Front>() + read_cost<Back>();
   const F inv_n = F(1.0f) / n;
   F t_out(0.0f), t_in(0.0f), steps(0.0f), fetches(0.0f);
   mask_t<F> searching = active, found = false_mask<F>();
@@ -35,14 +46,14 @@ inline SearchHit<F> dual_depth_search(const Front& front, const Back& back, V2<F
     const mask_t<F> in = searching & dual_inside(sample_depth(front, p, searching),
                                                  sample_depth(back, p, searching), t);
     steps += detail::count<F>(searching);
-    fetches += detail::count<F>(searching) * F(2.0f);
+    fetches += detail::count<F>(searching) * F(kPerStep);
     t_in = select(in, t, t_in);
     t_out = select(searching & !in, t, t_out);
     found = found | in;
     searching = searching & !in & !last;
   }
   F lo = t_out, hi = t_in;
-  bisect(lo, hi, found & (hi > lo), m, 2.0f, steps, fetches, [&](const F& mid, mask_t<F> refine) {
+  bisect(lo, hi, found & (hi > lo), m, kPerStep, steps, fetches, [&](const F& mid, mask_t<F> refine) {
     const V2<F> p = uv + ds * mid;
     return dual_inside(sample_depth(front, p, refine), sample_depth(back, p, refine), mid);
   });
@@ -54,10 +65,11 @@ inline SearchHit<F> dual_depth_search(const Front& front, const Back& back, V2<F
 // Hard self-shadow of the hit (uv, t) toward a light with tangent-space step dl and L.z = lz: the
 // ray (uv + dl * s, t - s), s = 1/n, 2/n, ... < t, is blocked where it is inside the object by
 // more than `bias` (front < t - s - bias and t - s + bias < back). Visibility 1 lit, 0 blocked
-// (or lz <= 0); inactive lanes 1. Two fetches per step.
+// (or lz <= 0); inactive lanes 1. Both layers read per step (read_cost each).
 template <class F, class Front, class Back>
 inline ShadowResult<F> dual_depth_shadow(const Front& front, const Back& back, V2<F> uv, F t,
                                          V2<F> dl, F lz, int n, float bias, mask_t<F> active) {
+  constexpr float kPerStep = read_cost<Front>() + read_cost<Back>();
   F steps(0.0f), fetches(0.0f);
   const F inv_n = F(1.0f) / F(static_cast<float>(n));
   const mask_t<F> lit_side = lz > F(0.0f);
@@ -72,7 +84,7 @@ inline ShadowResult<F> dual_depth_shadow(const Front& front, const Back& back, V
     const mask_t<F> blocked = marching & (sample_depth(front, p, marching) < depth - F(bias)) &
                               (sample_depth(back, p, marching) > depth + F(bias));
     steps += detail::count<F>(marching);
-    fetches += detail::count<F>(marching) * F(2.0f);
+    fetches += detail::count<F>(marching) * F(kPerStep);
     vis = select(blocked, F(0.0f), vis);
     marching = marching & !blocked;
   }

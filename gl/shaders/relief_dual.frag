@@ -32,8 +32,11 @@ float sample_back(TextureDepth depth, vec2 uv) {
 
 bool dual_inside(float front, float back, float t) { return front <= t && t <= back; }
 
-// dual_depth_search: n linear steps (t_i = i / n), depth 1 not inside by itself, m halvings; two
-// fetches per step.
+// Fetches a read of both layers costs: the back layer is a constant when no map is bound.
+float layer_fetches() { return has_texture[kBackDepthSlot] ? 2.0 : 1.0; }
+
+// dual_depth_search: n linear steps (t_i = i / n), depth 1 not inside by itself, m halvings;
+// layer_fetches() per step.
 SearchHit dual_depth_search(TextureDepth depth, vec2 uv, vec2 ds, float n, int m, out bool miss) {
   float inv_n = 1.0 / n;
   float t_out = 0.0, t_in = 0.0, steps = 0.0, fetches = 0.0;
@@ -45,7 +48,7 @@ SearchHit dual_depth_search(TextureDepth depth, vec2 uv, vec2 ds, float n, int m
     vec2 p = uv + ds * t;
     bool inside = dual_inside(sample_depth(depth, p), sample_back(depth, p), t);
     steps += 1.0;
-    fetches += 2.0;
+    fetches += layer_fetches();
     if (inside) {
       t_in = t;
       found = true;
@@ -65,7 +68,7 @@ SearchHit dual_depth_search(TextureDepth depth, vec2 uv, vec2 ds, float n, int m
     else
       lo = mid;
     steps += 1.0;
-    fetches += 2.0;
+    fetches += layer_fetches();
   }
   miss = !found;
   float t_hit = found ? hi : 0.0;
@@ -73,7 +76,7 @@ SearchHit dual_depth_search(TextureDepth depth, vec2 uv, vec2 ds, float n, int m
 }
 
 // dual_depth_shadow: the ray (uv + dl s, t - s), s = 1/n, 2/n, ... < t, blocked where inside the
-// object by more than bias; two fetches per step.
+// object by more than bias; layer_fetches() per step.
 float dual_depth_shadow(TextureDepth depth, vec2 uv, float t, vec2 dl, float lz, int n, float bias,
                         inout ShadeOut o) {
   float inv_n = 1.0 / float(n);
@@ -86,7 +89,7 @@ float dual_depth_shadow(TextureDepth depth, vec2 uv, float t, vec2 dl, float lz,
     float d = t - s;
     bool blocked = sample_depth(depth, p) < d - bias && sample_back(depth, p) > d + bias;
     o.shadow_steps += 1.0;
-    o.fetches += 2.0;
+    o.fetches += layer_fetches();
     if (blocked) {
       vis = 0.0;
       break;
@@ -164,7 +167,7 @@ ShadeOut shade(FragIn in_) {
       vec4 c = textureGrad(textures[kBackNormalSlot], hit.uv, in_.duv_dx, in_.duv_dy);
       n = normalize_safe(to_world(tf, vec3(c.x * 2.0 - 1.0, c.y * 2.0 - 1.0, c.z * 2.0 - 1.0)));
     }
-    o.fetches += 2.0 + (on_back ? 1.0 : 0.0);
+    o.fetches += layer_fetches() + (on_back ? 1.0 : 0.0);
   }
   vec3 albedo = material.base_color.rgb;
   if (has_texture[kBaseColorSlot]) {
