@@ -461,12 +461,15 @@ struct Rasterizer::Impl {
           const float* r0 = depth + size_t(qy) * dw + qx;
           const float* r1 = r0 + dw;
           v8f d;
-          if (qx + 3 < dw && qy + 1 < fb.depth.height) {
+          // Only pixels of this tile (x1, y1 are clipped to it): a quad pair may reach past the
+          // tile's edge into pixels another thread is clearing or writing (ThreadSanitizer found
+          // it); those lanes are masked off, so what they read does not matter.
+          if (qx + 3 <= x1 && qy + 1 <= y1) {
             d = v8f{r0[0], r0[1], r1[0], r1[1], r0[2], r0[3], r1[2], r1[3]};
           } else {
             for (int l = 0; l < 8; ++l) {
               const int x = qx + (l & 1) + (l >> 2) * 2, y = qy + ((l >> 1) & 1);
-              d[l] = x < dw && y < fb.depth.height ? depth[size_t(y) * dw + x] : 1.0f;
+              d[l] = x <= x1 && y <= y1 ? depth[size_t(y) * dw + x] : 1.0f;
             }
           }
           const v8i pass = z > d;

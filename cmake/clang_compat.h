@@ -1,4 +1,5 @@
-// Forced into every file of the clang fuzz build (scripts/ci-fuzz.sh) only: GCC's
+// Forced into every file when the compiler is clang (CMakeLists.txt; the fuzz and sanitizer
+// builds of scripts/ci-fuzz.sh and scripts/ci-sanitizers.sh): GCC's
 // __builtin_shuffle (rasterizer/pipeline.cpp, a runtime-mask vector shuffle) has no clang
 // spelling, so it is emulated element by element here. The GCC builds never see this file.
 #pragma once
