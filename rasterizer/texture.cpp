@@ -621,7 +621,11 @@ glm::vec4 sample_grad(const Texture& t, const SamplerState& s, glm::vec2 uv, glm
   if (pmax > 0.0f && pmax == pmax) {
     // A relative tolerance keeps rounding noise in an isotropic footprint from doubling N.
     const float ratio = pmin > 0.0f ? pmax / pmin : static_cast<float>(max_aniso);
-    const float capped = std::min(ratio * (1.0f - 1e-4f), static_cast<float>(max_aniso));
+    // written so that a NaN ratio (infinite footprints on both axes) takes the maximum: float to
+    // int of NaN is undefined (UBSan found it)
+    const float tolerant = ratio * (1.0f - 1e-4f);
+    const float capped =
+        tolerant < static_cast<float>(max_aniso) ? tolerant : static_cast<float>(max_aniso);
     n = std::max(1, static_cast<int>(std::ceil(capped)));
   }
   SamplerState tri = s;
