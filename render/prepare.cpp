@@ -1,4 +1,6 @@
 // Vertex preparation shared by both backends: world-space varyings in the standard layout.
+#include <cmath>
+
 #include <glm/geometric.hpp>
 #include <glm/matrix.hpp>
 
@@ -32,13 +34,25 @@ std::vector<PreparedDraw> prepare_draws(const Scene& scene, const glm::mat4& vie
       const glm::vec4 t = v < mesh.tangents.size() ? mesh.tangents[v] : glm::vec4(1, 0, 0, 1);
       const glm::vec3 wt = linear * glm::vec3(t);
       const glm::vec2 uv = v < mesh.uvs.size() ? mesh.uvs[v] * mat.uv_scale + mat.uv_offset : glm::vec2(0);
-      const glm::vec2 q = v < mesh.quadric.size() ? mesh.quadric[v] : glm::vec2(0);
       glm::vec2 ts = v < mesh.tile_scale.size() ? mesh.tile_scale[v] : glm::vec2(1);
       // World units per (tiled) uv unit along T and B.
       ts = ts / glm::max(glm::abs(mat.uv_scale), glm::vec2(1e-12f));
       // Object to world: scale by how much the model matrix stretches T and B.
       const glm::vec3 on = v < mesh.normals.size() ? mesh.normals[v] : glm::vec3(0, 0, 1);
-      ts *= glm::vec2(glm::length(wt), glm::length(linear * glm::cross(on, glm::vec3(t))));
+      const glm::vec3 ob = glm::cross(on, glm::vec3(t));
+      ts *= glm::vec2(glm::length(wt), glm::length(linear * ob));
+      // The quadric z = a x^2 + b y^2 (x, y along T and B, z along -N) is fitted in object units.
+      // In world units x and y stretch as T and B do, z as the distance between tangent planes
+      // (1 / |N^-T n| for a unit n), so a' = a * sz / sx^2. Exact for uniform scales and for
+      // scales along T, B and N; identity transforms leave the coefficients bit for bit.
+      glm::vec2 q = v < mesh.quadric.size() ? mesh.quadric[v] : glm::vec2(0);
+      if (v < mesh.quadric.size() && v < mesh.normals.size()) {
+        const glm::vec3 t3(t);
+        const float sx = glm::length(wt) / glm::length(t3);
+        const float sy = glm::length(linear * ob) / glm::length(ob);
+        const float sz = glm::length(on) / glm::length(nrm);
+        if (sx > 0.0f && sy > 0.0f && std::isfinite(sz)) q *= glm::vec2(sz / (sx * sx), sz / (sy * sy));
+      }
       const float vals[varying::kCount] = {wp.x,  wp.y,  wp.z,  nrm.x, nrm.y, nrm.z,
                                            wt.x,  wt.y,  wt.z,  t.w * handedness,
                                            uv.x,  uv.y,  q.x,   q.y,   ts.x,  ts.y};
