@@ -2,15 +2,21 @@
 // fixed-seed random cases for the scalar and the 8-lane path: rays from grazing (0.01 degrees) to
 // exactly along the normal, exactly along a texture axis; depth scale 0, default and the schema's
 // maximum; tiling 1e-3 .. 1e3; depth maps from 1x1 to 4096x4096 and non-square, all 0, all 1,
-// one-texel spikes and walls, noise; degenerate tangent frames and uv; positions at 1e5.
-//   - colour, depth and every AOV are finite; hit depth in [0, 1];
+// one-texel spikes and walls, noise; degenerate tangent frames and uv; positions at 1e5;
+// quadrics flat, convex, concave, saddle, huge and tiny, seen from the front and the back; the
+// nearest fragment on the near plane, or the farthest on a finite far plane (so displaced hits
+// lie beyond it).
+//   - colour, depth and every AOV are finite; hit depth in [0, 1]; a written depth lies in
+//     [0, the fragment's depth] (reversed-Z: never nearer than the surface, 0 beyond the far plane);
 //   - the hit lies on the view ray: hit uv = uv + hit_depth * ds, ds = V.xy * scale / -V.z (the
 //     texture-space ray of shaders_cpp/ray.h), for every technique that searches along the ray
-//     (parallax's single offset only has to point along it);
+//     (parallax's single offset only has to point along it, and so does relief_quadric's hit on a
+//     curved quadric: its ray bends in depth, not in uv);
 //   - the conservative cone techniques (cone, cone_quad) never hit later than `exact`.
 // A failure prints the case (seed, plugin, lanes, ray, texture, parameters) to rerun it alone.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <map>
@@ -34,6 +40,11 @@ constexpr double kPi = 3.14159265358979323846;
 
 enum class Content { kZero, kOne, kSpike, kWall, kNoise };
 const char* const kContentName[] = {"all0", "all1", "spike", "wall", "noise"};
+
+// Per-vertex quadric coefficients (a, b) of the surface (varying::kQuadric; relief_quadric's).
+const float kQuadrics[][2] = {{0.0f, 0.0f},  {0.5f, 0.5f},   {-0.5f, -0.5f}, {0.5f, -0.5f},
+                              {1e4f, 1e4f},  {-1e4f, 1e4f},  {1e-7f, 1e-7f}, {0.0f, 2.0f}};
+const char* const kClipName[] = {"inside", "near plane", "far plane"};
 
 struct TexCase {
   int w, h;
@@ -95,6 +106,9 @@ struct Case {
   int scale_choice;  // 0: depth scale 0, 1: default, 2: the schema maximum
   int frame_kind;    // 0: regular, 1: tangent along the normal, 2: zero tangent, 3: zero normal
   bool constant_uv;  // every lane at the same uv (zero derivatives)
+  int quadric;       // index into kQuadrics
+  bool back_facing;  // the eye below the surface, the packet back-facing
+  int clip;          // 0: eye 2 units away, 1: nearest lane on the near plane, 2: farthest on the far
 
   std::string describe() const {
     std::ostringstream os;
@@ -102,7 +116,8 @@ struct Case {
        << " deg, tiling " << tiling << ", origin (" << origin.x << ", " << origin.y << ", "
        << origin.z << "), depth " << tex.w << "x" << tex.h << " " << kContentName[int(tex.content)]
        << ", scale choice " << scale_choice << ", frame " << frame_kind << ", constant uv "
-       << constant_uv;
+       << constant_uv << ", quadric (" << kQuadrics[quadric][0] << ", " << kQuadrics[quadric][1]
+       << ")" << (back_facing ? " from the back" : "") << ", " << kClipName[clip];
     return os.str();
   }
 };
@@ -130,6 +145,10 @@ Case make_case(uint32_t seed) {
   c.scale_choice = pick(3);
   c.frame_kind = pick(8) < 5 ? 0 : 1 + pick(3);
   c.constant_uv = pick(6) == 0;
+  // drawn after the rest, so the earlier fields of every seed are what they were before these
+  c.quadric = pick(2) == 0 ? 0 : pick(8);
+  c.back_facing = pick(4) == 0;
+  c.clip = pick(3);
   return c;
 }
 
@@ -146,12 +165,33 @@ struct PacketCase {
     const double el = c.elevation_deg * kPi / 180.0, az = c.azimuth_deg * kPi / 180.0;
     ray = glm::dvec3(std::cos(el) * std::cos(az), std::cos(el) * std::sin(az), -std::sin(el));
     if (c.elevation_deg == 90.0) ray = glm::dvec3(0, 0, -1);  // exactly along the normal
-    const glm::dvec3 eye = c.origin - ray * 2.0;
+    if (c.back_facing) ray.z = -ray.z;  // seen from below: the back of a two-sided surface
+    const bool constant_uv = c.constant_uv;
+    auto lane_offset = [constant_uv](int ln) {  // lane ln's offset from origin in the plane
+      const int q = ln / 4, l = ln % 4;
+      const double spacing = 0.004;
+      if (constant_uv) return glm::dvec3(0.0);
+      return glm::dvec3(spacing * ((q % 4) * 2 + (l & 1)), spacing * ((q / 4) * 2 + (l >> 1)), 0.0);
+    };
+    // the lanes' view depths are eye_distance + dot(offset, ray)
+    double nearest = 0.0, farthest = 0.0;
+    for (int ln = 0; ln < kPacketLanes; ++ln) {
+      nearest = std::min(nearest, glm::dot(lane_offset(ln), ray));
+      farthest = std::max(farthest, glm::dot(lane_offset(ln), ray));
+    }
+    const double near = 0.1;
+    const double eye_distance = c.clip == 1 ? near * (1.0 + 1e-6) - nearest : 2.0;
+    const glm::dvec3 eye = c.origin - ray * eye_distance;
     frame.eye = glm::vec3(eye);
-    glm::mat4 proj(0.0f);  // infinite reversed-Z, near 0.1
+    glm::mat4 proj(0.0f);  // reversed-Z, near 0.1: infinite, or finite (far = 0 depth)
     proj[0][0] = proj[1][1] = 1.0f;
     proj[2][3] = -1.0f;
-    proj[3][2] = 0.1f;
+    proj[3][2] = static_cast<float>(near);
+    if (c.clip == 2) {
+      const double far = (eye_distance + farthest) * (1.0 + 1e-6);
+      proj[2][2] = static_cast<float>(near / (far - near));
+      proj[3][2] = static_cast<float>(far * near / (far - near));
+    }
     const glm::dvec3 up = std::abs(ray.z) > 0.9 ? glm::dvec3(0, 1, 0) : glm::dvec3(0, 0, 1);
     const glm::dmat4 view = glm::lookAt(eye, c.origin, up);
     frame.view = glm::mat4(view);
@@ -179,8 +219,7 @@ struct PacketCase {
 
     packet.num_quads = kPacketQuads;
     packet.num_varyings = varying::kCount;
-    packet.front_facing = true;
-    const float spacing = 0.004f;
+    packet.front_facing = !c.back_facing;
     glm::vec3 n(0, 0, 1), t(1, 0, 0);
     if (c.frame_kind == 1) t = n;
     if (c.frame_kind == 2) t = glm::vec3(0);
@@ -190,19 +229,20 @@ struct PacketCase {
       packet.coverage[q] = 0xF;
       for (int l = 0; l < 4; ++l) {
         const int ln = q * 4 + l;
-        const double dx = c.constant_uv ? 0.0 : spacing * ((q % 4) * 2 + (l & 1));
-        const double dy = c.constant_uv ? 0.0 : spacing * ((q / 4) * 2 + (l >> 1));
-        const glm::dvec3 pos = c.origin + glm::dvec3(dx, dy, 0.0);
+        const glm::dvec3 pos = c.origin + lane_offset(ln);
         const float u = static_cast<float>(pos.x * c.tiling), v = static_cast<float>(pos.y * c.tiling);
         uv0[ln][0] = u;
         uv0[ln][1] = v;
         const float vals[varying::kCount] = {float(pos.x), float(pos.y), float(pos.z), n.x, n.y, n.z,
-                                             t.x, t.y, t.z, 1.0f, u, v, 0.0f, 0.0f, tile, tile};
+                                             t.x, t.y, t.z, 1.0f, u, v, kQuadrics[c.quadric][0],
+                                             kQuadrics[c.quadric][1], tile, tile};
         for (int k = 0; k < varying::kCount; ++k) packet.varyings[k][ln] = vals[k];
         const glm::dvec4 clip = glm::dmat4(frame.view_proj) * glm::dvec4(pos, 1.0);
         packet.frag_x[ln] = static_cast<float>(ln % 8);
         packet.frag_y[ln] = static_cast<float>(ln / 8);
-        packet.frag_z[ln] = static_cast<float>(clip.z / clip.w);
+        // clamped to [0, 1] as the rasterizer does (at 1e5 from the origin float rounding can put
+        // the far-plane case's surface a little beyond the far plane)
+        packet.frag_z[ln] = static_cast<float>(std::clamp(clip.z / clip.w, 0.0, 1.0));
         packet.inv_w[ln] = static_cast<float>(1.0 / clip.w);
       }
     }
@@ -230,7 +270,9 @@ struct PacketCase {
 
 // The techniques that search along the view ray (all but parallax's one offset and the
 // surface-only shaders, whose hit is the fragment itself).
-bool hit_on_ray(const std::string& name) { return name != "parallax"; }
+bool hit_on_ray(const std::string& name, const Case& c) {
+  return name != "parallax" && (name != "relief_quadric" || c.quadric == 0);
+}
 bool conservative(const std::string& name) { return name == "cone" || name == "cone_quad"; }
 
 constexpr int kCases = 48;
@@ -241,7 +283,8 @@ TEST(Properties, EveryTechniqueFiniteOnTheRayAndConservativeNeverLate) {
   int checked_on_ray = 0, checked_conservative = 0;
   for (uint32_t seed = 1; seed <= kCases; ++seed) {
     const Case c = make_case(seed);
-    const bool regular = c.frame_kind == 0 && !c.constant_uv;
+    // the ray checks below assume the tangent frame is the world frame: front-facing only
+    const bool regular = c.frame_kind == 0 && !c.constant_uv && !c.back_facing;
     PacketCase exact_case(*exact, c);
     std::unique_ptr<FragmentOutput> exact_out[2];  // 8-lane, scalar; made when first needed
     for (const PluginDescriptor* p : PluginRegistry::global().all()) {
@@ -281,7 +324,7 @@ TEST(Properties, EveryTechniqueFiniteOnTheRayAndConservativeNeverLate) {
           const double ou = o->aov[kAovOffset[0]][ln] - u0;
           const double ov = o->aov[kAovOffset[0] + 1][ln] - w0;
           const double tol = 1e-5 * (std::abs(u0) + std::abs(w0) + k + 1.0) * 8.0;
-          if (hit_on_ray(p->name)) {
+          if (hit_on_ray(p->name, c)) {
             EXPECT_NEAR(ou, hd * v.x * k, tol) << where << " lane " << ln;
             EXPECT_NEAR(ov, hd * v.y * k, tol) << where << " lane " << ln;
             ++checked_on_ray;
