@@ -1,8 +1,10 @@
 #!/usr/bin/env bash
-# Builds the libFuzzer targets (tests/fuzz) with clang-14 + ASan + UBSan in their own build folder
+# Builds the libFuzzer targets (tests/fuzz) with clang-14 + ASan + UBSan (scripts/clang-sanitized.sh)
 # and runs each for FUZZ_SECONDS (default 60) from its seed corpus tests/fuzz/<target>/. Any crash,
 # leak, sanitizer report or timeout fails the script; libFuzzer leaves the reproducer in
-# $BUILD/crashes/. Usage: scripts/ci-fuzz.sh [build-dir]   (default build-fuzz)
+# $BUILD/crashes/. Usage: scripts/ci-fuzz.sh [build-dir]   (default build-fuzz; .ci/run passes
+# build-ci-asan, configured the same way by scripts/ci-sanitizers.sh, so the libraries are built
+# once for both).
 # CI runs a fixed seed (FUZZ_SEED, default 1): the same binary, seed and corpus give the same
 # sequence of inputs, so CI replays what was checked here (a faster machine goes a little further
 # in the same sequence in its 60 s). FUZZ_SEED=0 picks a random seed (for exploring);
@@ -15,14 +17,11 @@ SEED=${FUZZ_SEED:-1}
 RUNS=${FUZZ_RUNS:--1}
 JOBS=${JOBS:-$(nproc)}
 TARGETS=(gltf image cli plugin_schema)
-CXX=${FUZZ_CXX:-clang++-14}
-command -v "$CXX" >/dev/null || { echo "ci-fuzz: $CXX not found (scripts/install-deps.sh installs it)"; exit 1; }
+SANITIZER_CXX=${FUZZ_CXX:-${SANITIZER_CXX:-clang++-14}}
+source scripts/clang-sanitized.sh
 
 t0=$(date +%s)
-cmake -S . -B "$BUILD" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_COMPILER="$CXX" \
-  -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g1" -DRELIEF_BUILD_TESTS=OFF -DRELIEF_BUILD_BENCH=OFF \
-  -DRELIEF_BUILD_FUZZ=ON -DRELIEF_SANITIZE=fuzzer-no-link,address,undefined \
-  -DCMAKE_CXX_FLAGS="-fno-sanitize-recover=undefined" >/dev/null
+configure_sanitized "$BUILD" fuzzer-no-link,address,undefined
 cmake --build "$BUILD" -j "$JOBS" --target "${TARGETS[@]/#/fuzz_}"
 echo "ci-fuzz: build $(( $(date +%s) - t0 )) s"
 [ "$SECONDS_PER_TARGET" -gt 0 ] || exit 0  # FUZZ_SECONDS=0: build only
