@@ -21,6 +21,7 @@ TEST(Cli, RenderWritesPngAndStats) {
 
 TEST(Cli, UnknownSceneIsOneLineInputError) {
   const std::string png = tmp("cli_scene.png");
+  std::filesystem::remove(png);  // a leftover of an earlier run would pass for output
   const CliRun r = run("render no_such_scene -o " + png);
   EXPECT_EQ(r.code, 1);
   EXPECT_EQ(lines(r.out), 1) << r.out;
@@ -30,6 +31,7 @@ TEST(Cli, UnknownSceneIsOneLineInputError) {
 
 TEST(Cli, BadSizeIsOneLineUsageError) {
   const std::string png = tmp("cli_size.png");
+  std::filesystem::remove(png);  // a leftover of an earlier run would pass for output
   for (const char* size : {"0x10", "800", "100000x100000", "20000x10", "axb"}) {
     const CliRun r = run(std::string("render --size ") + size + " -o " + png);
     EXPECT_EQ(r.code, 2) << size << ": " << r.out;
@@ -41,6 +43,7 @@ TEST(Cli, BadSizeIsOneLineUsageError) {
 
 TEST(Cli, UnknownParameterNamesIt) {
   const std::string png = tmp("cli_param.png");
+  std::filesystem::remove(png);  // a leftover of an earlier run would pass for output
   const CliRun r = run("render --size 32x32 --param no_such_param=3 -o " + png);
   EXPECT_EQ(r.code, 2) << r.out;
   EXPECT_EQ(lines(r.out), 1) << r.out;
