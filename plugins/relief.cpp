@@ -9,14 +9,7 @@
 namespace relief {
 namespace {
 
-enum Param { kSteps, kBinarySteps, kMinSteps, kDepthScaleParam, kShadowStepsParam };
-const ParamSpec kParams[] = {
-    kLinearStepsSpec,
-    kBinaryStepsSpec,
-    kMinStepsSpec,
-    kDepthScaleSpec,
-    kShadowStepsSpec,
-};
+using namespace relief_schema;
 
 struct ReliefSearch : MarchedShadow<kShadowStepsParam> {
   static constexpr int kDepthScale = kDepthScaleParam;

@@ -16,14 +16,7 @@
 namespace relief {
 namespace {
 
-enum Param { kSteps, kBinarySteps, kMinSteps, kDepthScaleParam, kShadowStepsParam };
-const ParamSpec kParams[] = {
-    kLinearStepsSpec,
-    kBinaryStepsSpec,
-    kMinStepsSpec,
-    kDepthScaleSpec,
-    kShadowStepsSpec,
-};
+using namespace relief_schema;  // relief's schema
 
 enum DualSlot { kBackDepthSlot = 3, kBackNormalSlot = 4 };
 const TextureSlotSpec kDualSlots[] = {
@@ -84,14 +77,8 @@ struct DualKernel {
                               miss);
       o.discard = miss;
     }
-    o.hit_uv = hit.uv;
-    o.hit_depth = hit.depth;
-    o.steps = hit.steps;
-    o.fetches = hit.fetches;
-    const F world_height = relief_world_height(depth_scale, in);
-    const V3<F> pos = hit_world_position(in.position, w, V.z, hit.depth, world_height);
-    if constexpr (kDepth)
-      o.depth = vmin(reversed_z_depth(ctx.frame->view_proj, pos, in.frag_z), in.frag_z);
+    const V3<F> pos = record_hit(in, view, depth_scale, hit, o);
+    if constexpr (kDepth) o.depth = corrected_depth(ctx, in, pos);
     if constexpr (kShadowPass) {
       return o;
     } else {

@@ -72,8 +72,7 @@ struct QuadricKernel {
     }
     o.hit_uv = hit_uv;
     const V3<F> pos = in.position + w * (t * world_per_t);
-    if constexpr (kDepth)
-      o.depth = vmin(reversed_z_depth(ctx.frame->view_proj, pos, in.frag_z), in.frag_z);
+    if constexpr (kDepth) o.depth = corrected_depth(ctx, in, pos);
     if constexpr (kShadowPass) {
       return o;
     } else {

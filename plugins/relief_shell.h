@@ -55,6 +55,14 @@ inline constexpr ParamSpec kShadowStepsSpec = {
     "shadow_steps", ParamType::kInt, 32.0f, 1.0f, 256.0f, nullptr,
     "self-shadow ray steps over the full depth (self_shadow effect)"};
 
+// The schema of the linear + binary search with a marched self-shadow ray (relief, relief_dual):
+// their kernels index params[] with Param.
+namespace relief_schema {
+enum Param { kSteps, kBinarySteps, kMinSteps, kDepthScaleParam, kShadowStepsParam };
+inline constexpr ParamSpec kParams[] = {kLinearStepsSpec, kBinaryStepsSpec, kMinStepsSpec,
+                                        kDepthScaleSpec, kShadowStepsSpec};
+}  // namespace relief_schema
+
 // Lanes of this group that are real, covered fragments.
 template <class F> mask_t<F> covered_lanes(const FragIn<F>& in) {
   mask_t<F> m = false_mask<F>();
@@ -101,6 +109,26 @@ template <class F> F relief_world_height(const F& depth_scale, const FragIn<F>& 
   return depth_scale * (in.tile_scale.x + in.tile_scale.y) * F(0.5f);
 }
 
+// The depth a relief fragment writes for the point `pos` it shows: pos's reversed-Z depth, never
+// nearer than the fragment's own (relief only moves the surface away from the viewer).
+template <class F>
+F corrected_depth(const ShadeContext& ctx, const FragIn<F>& in, const V3<F>& pos) {
+  return vmin(reversed_z_depth(ctx.frame->view_proj, pos, in.frag_z), in.frag_z);
+}
+
+// Records a search's hit in `o` (hit uv and depth, counters) and returns the hit's world point on
+// the eye ray: hit.depth times the relief's world height below the fragment.
+template <class F>
+V3<F> record_hit(const FragIn<F>& in, const ShellView<F>& view, const F& depth_scale,
+                 const SearchHit<F>& hit, ShadeOut<F>& o) {
+  o.hit_uv = hit.uv;
+  o.hit_depth = hit.depth;
+  o.steps = hit.steps;
+  o.fetches = hit.fetches;
+  return hit_world_position(in.position, view.w, view.V.z, hit.depth,
+                            relief_world_height(depth_scale, in));
+}
+
 // Whether a technique policy samples the depth map it is handed (true unless it says otherwise).
 template <class Search> constexpr bool samples_depth_map() {
   if constexpr (requires { Search::kSamplesDepthMap; })
@@ -129,13 +157,8 @@ template <class Search, EffectMask kEffects> struct ReliefKernel {
                                    : TextureDepth{m.textures[kDepthSlot], &m.samplers[kDepthSlot]};
     SearchHit<F> hit{in.uv, F(0.0f), F(0.0f), F(0.0f)};
     if (depth.texture) hit = Search::search(ctx, in, depth, V, ds, active);
-    o.hit_uv = hit.uv;
-    o.hit_depth = hit.depth;
-    o.steps = hit.steps;
-    o.fetches = hit.fetches;
-    const F world_height = relief_world_height(depth_scale, in);
-    const V3<F> pos = hit_world_position(in.position, w, V.z, hit.depth, world_height);
-    if constexpr (kDepth) o.depth = vmin(reversed_z_depth(ctx.frame->view_proj, pos, in.frag_z), in.frag_z);
+    const V3<F> pos = record_hit(in, view, depth_scale, hit, o);
+    if constexpr (kDepth) o.depth = corrected_depth(ctx, in, pos);
     if constexpr (kShadowPass) {
       return o;
     } else {
