@@ -40,16 +40,16 @@ std::vector<PreparedDraw> prepare_draws(const Scene& scene, const glm::mat4& vie
       // Object to world: scale by how much the model matrix stretches T and B.
       const glm::vec3 on = v < mesh.normals.size() ? mesh.normals[v] : glm::vec3(0, 0, 1);
       const glm::vec3 ob = glm::cross(on, glm::vec3(t));
-      ts *= glm::vec2(glm::length(wt), glm::length(linear * ob));
+      const float wt_len = glm::length(wt), wb_len = glm::length(linear * ob);
+      ts *= glm::vec2(wt_len, wb_len);
       // The quadric z = a x^2 + b y^2 (x, y along T and B, z along -N) is fitted in object units.
       // In world units x and y stretch as T and B do, z as the distance between tangent planes
       // (1 / |N^-T n| for a unit n), so a' = a * sz / sx^2. Exact for uniform scales and for
       // scales along T, B and N; identity transforms leave the coefficients bit for bit.
       glm::vec2 q = v < mesh.quadric.size() ? mesh.quadric[v] : glm::vec2(0);
       if (v < mesh.quadric.size() && v < mesh.normals.size()) {
-        const glm::vec3 t3(t);
-        const float sx = glm::length(wt) / glm::length(t3);
-        const float sy = glm::length(linear * ob) / glm::length(ob);
+        const float sx = wt_len / glm::length(glm::vec3(t));
+        const float sy = wb_len / glm::length(ob);
         const float sz = glm::length(on) / glm::length(nrm);
         if (sx > 0.0f && sy > 0.0f && std::isfinite(sz)) q *= glm::vec2(sz / (sx * sx), sz / (sy * sy));
       }
