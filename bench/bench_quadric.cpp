@@ -1,6 +1,7 @@
 // Cost of relief mapping with correct silhouettes (Oliveira and Policarpo 2005): relief_quadric
 // with the accurate (equation 6) and approximate (equation 7) distances against plain relief on
-// the `torus` scene at 1024 x 768, 2 threads, the same 32 + 8 search; and the per-vertex quadric
+// the `torus` scene at 1024 x 768, 2 threads, the same 32 + 8 search, and relief_quadric with
+// search=relaxed_cone (15 cone steps + 8 halvings); and the per-vertex quadric
 // fit (scene/mesh_prep.h) of a 100k-vertex torus.
 #include "bench/bench_util.h"
 #include "scene/builtin_curved.h"
@@ -21,6 +22,8 @@ const TechniqueCase kCases[] = {
     {"Relief_32_8", "relief", kSearch},
     {"Quadric_Approximate_32_8", "relief_quadric", with(kSearch, "distance", "approximate")},
     {"Quadric_Accurate_32_8", "relief_quadric", with(kSearch, "distance", "accurate")},
+    {"Quadric_RelaxedCone_15_8", "relief_quadric",
+     {{"search", "relaxed_cone"}, {"cone_steps", "15"}, {"binary_steps", "8"}}},
 };
 
 void run_case(benchmark::State& state, const TechniqueCase& c) {

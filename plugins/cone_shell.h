@@ -97,6 +97,7 @@ constexpr PluginDescriptor cone_plugin(const char* name, const char* description
           &select_relief_variant<Search>,
           &relief_depth_output,
           nullptr,
+          nullptr,
           nullptr};
 }
 

@@ -49,7 +49,7 @@ const PluginDescriptor kExactPlugin = {
     kPluginAbiVersion, "exact", "exact first hit on the bilinear height field (max-mip traversal + patch solve): the reference",
     kParams, std::size(kParams), kReliefSlots, std::size(kReliefSlots),
     kReliefShellEffects,
-    &select_relief_variant<ExactSearch>, &relief_depth_output, &create_exact, &destroy_exact,
+    &select_relief_variant<ExactSearch>, &relief_depth_output, &create_exact, &destroy_exact, nullptr,
 };
 
 }  // namespace relief

@@ -36,7 +36,7 @@ DepthOutput depth_flat(EffectMask) { return DepthOutput::kNone; }
 
 const PluginDescriptor kFlatPlugin = {
     kPluginAbiVersion, "flat", "Lambert and Blinn-Phong over the interpolated normal (no relief)",
-    nullptr, 0, kSlots, 1, kEffectReceiveShadow, &select_flat, &depth_flat, nullptr, nullptr,
+    nullptr, 0, kSlots, 1, kEffectReceiveShadow, &select_flat, &depth_flat, nullptr, nullptr, nullptr,
 };
 
 }  // namespace relief

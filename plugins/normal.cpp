@@ -42,7 +42,7 @@ DepthOutput depth_normal(EffectMask) { return DepthOutput::kNone; }
 
 const PluginDescriptor kNormalPlugin = {
     kPluginAbiVersion, "normal", "tangent-space normal mapping, no parallax (Blinn 1978)",
-    kParams, 1, kSlots, 2, kEffectReceiveShadow, &select_normal, &depth_normal, nullptr, nullptr,
+    kParams, 1, kSlots, 2, kEffectReceiveShadow, &select_normal, &depth_normal, nullptr, nullptr, nullptr,
 };
 
 }  // namespace relief

@@ -38,7 +38,7 @@ const PluginDescriptor kParallaxPlugin = {
     kPluginAbiVersion, "parallax", "parallax mapping, one offset, optional offset limiting (Kaneko 2001; Welsh 2004)",
     kParams, std::size(kParams), kReliefSlots, std::size(kReliefSlots),
     kReliefShellEffects,
-    &select_relief_variant<ParallaxSearch>, &relief_depth_output, nullptr, nullptr,
+    &select_relief_variant<ParallaxSearch>, &relief_depth_output, nullptr, nullptr, nullptr,
 };
 
 }  // namespace relief

@@ -23,7 +23,7 @@
 
 namespace relief {
 
-inline constexpr uint32_t kPluginAbiVersion = 1;
+inline constexpr uint32_t kPluginAbiVersion = 2;  // 2: reads_texture
 
 // ---- parameters ----
 enum class ParamType : uint8_t { kFloat, kInt, kBool, kEnum };
@@ -148,6 +148,10 @@ struct PluginDescriptor {
   // Optional: derived data built once per material (max-mips, ...); freed by destroy_state.
   void* (*create_state)(const MaterialUniforms& material);
   void (*destroy_state)(void* state);
+  // Optional: whether the shader, with these parameter values (schema order), reads texture slot
+  // `slot`; null means it reads every slot it declares. The planner neither requires nor bakes
+  // (derived maps) a slot that is not read, so a parameter that switches a map off saves its bake.
+  bool (*reads_texture)(const float* params, int slot);
 };
 
 }  // namespace relief

@@ -33,7 +33,7 @@ const PluginDescriptor kPomPlugin = {
     kPluginAbiVersion, "pom", "parallax occlusion mapping: linear search + secant of the last two samples (Tatarchuk 2006)",
     kParams, std::size(kParams), kReliefSlots, std::size(kReliefSlots),
     kReliefShellEffects,
-    &select_relief_variant<PomSearch>, &relief_depth_output, nullptr, nullptr,
+    &select_relief_variant<PomSearch>, &relief_depth_output, nullptr, nullptr, nullptr,
 };
 
 }  // namespace relief

@@ -30,7 +30,7 @@ const PluginDescriptor kReliefPlugin = {
     kPluginAbiVersion, "relief", "relief mapping: linear + binary search, self-shadow, depth correction (Policarpo et al. 2005)",
     kParams, std::size(kParams), kReliefSlots, std::size(kReliefSlots),
     kReliefShellEffects,
-    &select_relief_variant<ReliefSearch>, &relief_depth_output, nullptr, nullptr,
+    &select_relief_variant<ReliefSearch>, &relief_depth_output, nullptr, nullptr, nullptr,
 };
 
 }  // namespace relief

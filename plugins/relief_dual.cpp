@@ -155,6 +155,7 @@ const PluginDescriptor kReliefDualPlugin = {
     &relief_depth_output,
     nullptr,
     nullptr,
+    nullptr,
 };
 
 }  // namespace relief

@@ -8,16 +8,29 @@
 // are discarded, whether or not the material asks for the silhouette effect. Depth correction
 // writes the hit's depth; shadows come from shadow maps (section 3.5: the deformed field has no
 // texture-space entry point for a shadow ray), so there is no self_shadow effect.
+// `search=relaxed_cone` replaces the linear + binary search with relaxed cone stepping on the
+// deformed field then halvings of the last bracket (shaders_cpp/quadric.h,
+// quadric_relaxed_cone_search); the relaxed cone map of slot 3 is baked from the depth map only
+// when that search is chosen (reads_texture).
 // Shares with the relief shell (plugins/relief_shell.h) the tangent frame, the per-quad depth
 // LOD, the normal and colour maps and the lights.
 #include "plugins/builtin.h"
+#include "plugins/cone_shell.h"
 #include "plugins/relief_shell.h"
 #include "shaders_cpp/quadric.h"
 
 namespace relief {
 namespace {
 
-enum Param { kSteps, kBinarySteps, kMinSteps, kDepthScaleParam, kDistanceParam };
+enum Param {
+  kSteps,
+  kBinarySteps,
+  kMinSteps,
+  kDepthScaleParam,
+  kDistanceParam,
+  kSearchParam,
+  kConeStepsParam
+};
 const ParamSpec kParams[] = {
     {"steps", ParamType::kInt, 32.0f, 1.0f, 256.0f, nullptr,
      "linear search steps over [0, t_max] at grazing angles"},
@@ -26,7 +39,21 @@ const ParamSpec kParams[] = {
     kDepthScaleSpec,
     {"distance", ParamType::kEnum, 0.0f, 0.0f, 1.0f, "approximate|accurate",
      "ray-quadric distance: approximate (equation 7) or accurate (equation 6)"},
+    {"search", ParamType::kEnum, 0.0f, 0.0f, 1.0f, "linear|relaxed_cone",
+     "linear + binary search (the paper), or relaxed cone stepping + binary search on the "
+     "deformed field (relaxed cone map baked from depth if absent)"},
+    {"cone_steps", ParamType::kInt, 15.0f, 1.0f, 256.0f, nullptr,
+     "relaxed cone steps (search=relaxed_cone; GPU Gems 3 ch. 18 uses 15)"},
 };
+const TextureSlotSpec kSlots[] = {kBaseColorSlotSpec, kNormalSlotSpec, kDepthSlotSpec,
+                                  {"cone_relaxed", false,
+                                   "relaxed cone map for search=relaxed_cone (baked from depth "
+                                   "if absent)"}};
+
+bool relaxed_search(const float* params) { return params[kSearchParam] >= 0.5f; }
+bool reads_texture(const float* params, int slot) {
+  return slot != kConeSlot || relaxed_search(params);
+}
 
 template <EffectMask kEffects>
 struct QuadricKernel {
@@ -59,9 +86,16 @@ struct QuadricKernel {
     if (depth.texture) {
       const QuadricRay<F> ray = make_quadric_ray<kD>(V, q, in.tile_scale, sz);
       const float* p = m.params;
-      const F n = relief_step_count(V.z, p[kMinSteps], p[kSteps]);
-      const QuadricHit<F> h =
-          quadric_search<kD>(depth, in.uv, ray, n, static_cast<int>(p[kBinarySteps]), active);
+      const int m_steps = static_cast<int>(p[kBinarySteps]);
+      TextureCone cone;
+      QuadricHit<F> h;
+      if (relaxed_search(p) && make_cone_source(ctx, depth, cone)) {
+        h = quadric_relaxed_cone_search<kD>(nearest_depth(depth), depth, cone, in.uv, ray,
+                                            static_cast<int>(p[kConeStepsParam]), m_steps, active);
+      } else {
+        const F n = relief_step_count(V.z, p[kMinSteps], p[kSteps]);
+        h = quadric_search<kD>(depth, in.uv, ray, n, m_steps, active);
+      }
       hit_uv = h.hit.uv;
       t = h.t;
       world_per_t = ray.world_per_t;
@@ -104,13 +138,14 @@ const PluginDescriptor kReliefQuadricPlugin = {
     "approximate distance, depth correction (Oliveira & Policarpo 2005)",
     kParams,
     std::size(kParams),
-    kReliefSlots,
-    std::size(kReliefSlots),
+    kSlots,
+    std::size(kSlots),
     kEffectDepthWrite | kEffectShadowPass | kEffectReceiveShadow | kEffectSilhouette,
     &select_quadric,
     &relief_depth_output,
     nullptr,
     nullptr,
+    &reads_texture,
 };
 
 }  // namespace relief

@@ -38,7 +38,7 @@ const PluginDescriptor kSteepParallaxPlugin = {
     kPluginAbiVersion, "steep_parallax", "steep parallax: n depth planes, constant LOD, self-shadow (McGuire & McGuire 2005)",
     kParams, std::size(kParams), kReliefSlots, std::size(kReliefSlots),
     kReliefShellEffects,
-    &select_relief_variant<SteepSearch>, &relief_depth_output, nullptr, nullptr,
+    &select_relief_variant<SteepSearch>, &relief_depth_output, nullptr, nullptr, nullptr,
 };
 
 }  // namespace relief

@@ -214,6 +214,11 @@ Result<Plan> make_plan(const Scene& scene, const RenderOptions& opt) {
     for (size_t i = 0; i < values->size(); ++i) b.uniforms.params[i] = (*values)[i];
     for (int s = 0; s < b.plugin->num_textures; ++s) {
       const TextureSlotSpec& slot = b.plugin->textures[s];
+      if (b.plugin->reads_texture && !b.plugin->reads_texture(b.uniforms.params, s)) {
+        if (is_derived_slot(slot.name))
+          b.reasons.push_back(std::string(slot.name) + ": not baked (these parameters do not read it)");
+        continue;
+      }
       auto it = m.textures.find(slot.name);
       if (it == m.textures.end() || !it->second) {
         if (is_derived_slot(slot.name)) {  // cone maps: baked from depth, cached

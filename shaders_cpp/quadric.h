@@ -179,4 +179,68 @@ inline QuadricHit<F> quadric_search(const Depth& depth, V2<F> uv, const QuadricR
   return out;
 }
 
+
+// Relaxed cone stepping on the quadric-deformed height field (`search=relaxed_cone`), a
+// combination neither paper has: the relaxed cone map of the flat field (Policarpo and Oliveira,
+// GPU Gems 3 ch. 18; bake/cone_map.h: uv distance per unit of depth) steps the quadric ray.
+// Relative to the deformed field the ray is a parabola: its depth below the quadric, by
+// equation 7, is D(t) = dz t - k t^2 with k = alpha dx^2 + beta dy^2, while it moves rho = |dxy|
+// in uv per unit of t. From a point outside the surface with gap h = map - D(t) > 0, the step
+// dt to the boundary of the texel's cone (apex on the surface, opening upward, ratio r) solves
+//   rho dt = r (h - (D'(t) dt - k dt^2)),   D'(t) = dz - 2 k t,
+// which is the chapter's equation 3 (dt = r h / (rho + r dz)) when k = 0. No positive root
+// (a ray rising faster than the cone opens): the step goes to t_max; a zero ratio: no step. The gap h uses the
+// plugin's distance (equation 6 or 7); the step always the vertical parabola.
+// A lane stops at the first sample inside (map <= D, or t_max on a bottom ray), at t_max (a
+// returning ray: outside there is a silhouette miss), or after n steps: it then takes the point
+// it reached as the hit, as the chapter takes K. Lanes that stopped inside get m halvings of
+// [last outside sample, first inside sample] on `depth` (the material's filtering; the march
+// reads `march_depth`, the nearest-texel field the relaxed cones are defined on). Counters:
+// one step and two fetches per march sample (depth and cone), one each per halving.
+template <QuadricDistance kD, class F, class MarchDepth, class Depth, class Cone>
+inline QuadricHit<F> quadric_relaxed_cone_search(const MarchDepth& march_depth, const Depth& depth,
+                                                 const Cone& cone, V2<F> uv,
+                                                 const QuadricRay<F>& r, int n, int m,
+                                                 mask_t<F> active) {
+  const V2<F> duv(r.dir.x, r.dir.y);
+  const F rho = vsqrt(duv.x * duv.x + duv.y * duv.y);
+  const F k = r.alpha * r.dir.x * r.dir.x + r.beta * r.dir.y * r.dir.y;
+  const F none(3.0e38f);
+  F t(0.0f), t_out(0.0f), steps(0.0f), fetches(0.0f);
+  mask_t<F> marching = active, found = false_mask<F>();
+  for (int i = 0; i < n && any(marching); ++i) {
+    const V2<F> p = uv + duv * t;
+    const F d = sample_depth(march_depth, p, marching);
+    const F ratio = sample_depth(cone, p, marching);
+    steps += detail::count<F>(marching);
+    fetches += detail::count<F>(marching) * F(2.0f);
+    const mask_t<F> end = t >= r.t_max;
+    const F h = d - quadric_distance<kD>(r, t);
+    const mask_t<F> in = (h <= F(0.0f)) | (end & r.bottom);
+    found = found | (marching & in);
+    marching = marching & !in & !end;
+    t_out = select(marching, t, t_out);
+    // the smallest dt > 0 on the cone's boundary: r k dt^2 - (rho + r D') dt + r h = 0
+    const F slope = r.dir.z - F(2.0f) * k * t;
+    const F root = detail::smallest_positive_root(ratio * k, F(0.0f) - (rho + ratio * slope),
+                                                  ratio * h, none);
+    const F dt = select(ratio > F(0.0f), root, F(0.0f));  // a zero cone: no step (as equation 3)
+    t = select(marching, vmin(t + dt, r.t_max), t);
+  }
+  // out of steps: the point reached is the hit
+  const mask_t<F> stalled = marching;
+  F lo = t_out, hi = t;
+  bisect(lo, hi, found & (hi > lo), m, 1.0f, steps, fetches, [&](const F& mid, mask_t<F> refine) {
+    return sample_depth(depth, uv + duv * mid, refine) <= quadric_distance<kD>(r, mid);
+  });
+  QuadricHit<F> out;
+  out.t = select(found | stalled, hi, F(0.0f));
+  out.miss = active & !found & !stalled;
+  out.hit.uv = uv + duv * out.t;
+  out.hit.depth = clamp(quadric_distance<kD>(r, out.t), F(0.0f), F(1.0f));
+  out.hit.steps = steps;
+  out.hit.fetches = fetches;
+  return out;
+}
+
 }  // namespace relief

@@ -5,7 +5,8 @@
 // [0, t_max]; rays that come back to depth 0 are silhouette), 3.4 (equations 8 and 9). Each
 // function keeps its C++ name and follows it operation by operation; change both together.
 // Conventions: see the C++ header (texture space x, y in uv units, z in depth-map units).
-// Needs ray.glsl (kMinRayCos, normalize_or) and search.glsl (TextureDepth, SearchHit).
+// Needs ray.glsl (kMinRayCos, normalize_or), search.glsl (TextureDepth, SearchHit) and, for the
+// relaxed cone search, cone.glsl (march_depth, cone_ratio).
 
 const int kQuadricApproximate = 0;
 const int kQuadricAccurate = 1;
@@ -101,6 +102,25 @@ struct QuadricHit {
   bool miss;  // the ray left the relief without a hit (silhouette: discard)
 };
 
+// The C++ bisect() of the quadric searches: m halvings of [lo, hi] when `found` and hi > lo,
+// the inside end kept; returns it. One step and one fetch per halving.
+float quadric_bisect(int kind, TextureDepth depth, vec2 uv, QuadricRay r, float lo, float hi,
+                     bool found, int m, inout float steps, inout float fetches) {
+  vec2 duv = vec2(r.dir.x, r.dir.y);
+  bool refine = found && hi > lo;
+  for (int i = 0; i < m && refine; ++i) {
+    float mid = (lo + hi) * 0.5;
+    bool inside = sample_depth(depth, uv + duv * mid) <= quadric_distance(kind, r, mid);
+    if (inside)
+      hi = mid;
+    else
+      lo = mid;
+    steps += 1.0;
+    fetches += 1.0;
+  }
+  return hi;
+}
+
 // Linear search over t_i = t_max i / n, i = 0..n, stopping at the first inside sample (depth map
 // <= D(t)); at t_max a bottom ray is inside whatever it reads. Then m binary halvings.
 QuadricHit quadric_search(int kind, TextureDepth depth, vec2 uv, QuadricRay r, float n, int m) {
@@ -125,22 +145,51 @@ QuadricHit quadric_search(int kind, TextureDepth depth, vec2 uv, QuadricRay r, f
     t_out = t;
     if (last) break;
   }
-  float lo = t_out, hi = t_in;
-  bool refine = found && hi > lo;
-  for (int i = 0; i < m && refine; ++i) {
-    float mid = (lo + hi) * 0.5;
-    float h = sample_depth(depth, uv + duv * mid);
-    bool inside = h <= quadric_distance(kind, r, mid);
-    if (inside)
-      hi = mid;
-    else
-      lo = mid;
-    steps += 1.0;
-    fetches += 1.0;
-  }
+  float hi = quadric_bisect(kind, depth, uv, r, t_out, t_in, found, m, steps, fetches);
   QuadricHit o;
   o.t = found ? hi : 0.0;
   o.miss = !found;
+  o.hit = SearchHit(uv + duv * o.t, clamp(quadric_distance(kind, r, o.t), 0.0, 1.0), steps, fetches);
+  return o;
+}
+
+// quadric_relaxed_cone_search (search=relaxed_cone): relaxed cone stepping on the deformed field,
+// n steps of the nearest-texel depth and the cone map (cone.glsl, included before this file),
+// each solving r k dt^2 - (rho + r D') dt + r h = 0 for the step to the cone's boundary; then m
+// halvings of [last outside, first inside] on the filtered depth. Out of steps: the point reached
+// is the hit; reaching t_max outside (a returning ray): a silhouette miss.
+QuadricHit quadric_relaxed_cone_search(int kind, TextureDepth depth, ConeSource cone, vec2 uv,
+                                       QuadricRay r, int n, int m) {
+  vec2 duv = vec2(r.dir.x, r.dir.y);
+  float rho = sqrt(duv.x * duv.x + duv.y * duv.y);
+  precise float k = r.alpha * r.dir.x * r.dir.x + r.beta * r.dir.y * r.dir.y;
+  float none = 3.0e38;
+  float t = 0.0, t_out = 0.0, steps = 0.0, fetches = 0.0;
+  bool marching = true, found = false;
+  for (int i = 0; i < n && marching; ++i) {
+    vec2 p = uv + duv * t;
+    float d = march_depth(depth, true, p);
+    float ratio = cone_ratio(cone, p);
+    steps += 1.0;
+    fetches += 2.0;
+    bool end_ = t >= r.t_max;
+    precise float h = d - quadric_distance(kind, r, t);
+    bool inside = h <= 0.0 || (end_ && r.bottom);
+    found = found || inside;
+    marching = !inside && !end_;
+    if (!marching) break;
+    t_out = t;
+    precise float slope = r.dir.z - 2.0 * k * t;
+    precise float q1 = 0.0 - (rho + ratio * slope);
+    float root = smallest_positive_root(ratio * k, q1, ratio * h, none);
+    float dt = ratio > 0.0 ? root : 0.0;
+    t = min(t + dt, r.t_max);
+  }
+  bool stalled = marching;
+  float hi = quadric_bisect(kind, depth, uv, r, t_out, t, found, m, steps, fetches);
+  QuadricHit o;
+  o.t = (found || stalled) ? hi : 0.0;
+  o.miss = !found && !stalled;
   o.hit = SearchHit(uv + duv * o.t, clamp(quadric_distance(kind, r, o.t), 0.0, 1.0), steps, fetches);
   return o;
 }

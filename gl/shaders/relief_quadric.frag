@@ -6,11 +6,13 @@
 // that leave the relief without a hit are discarded (silhouette), whatever the material's
 // effects. Depth correction writes the hit's depth; no self-shadow (section 3.5), shadow maps
 // looked up at the hit. Shares the relief shell's frame, per-quad LOD, normal and colour maps.
+// search=relaxed_cone: relaxed cone stepping on the deformed field (quadric.glsl).
 // Misses discard: no early fragment tests (common.glsl).
 #define RELIEF_MAY_DISCARD 1
 #include "common.glsl"
 #include "ray.glsl"
 #include "search.glsl"
+#include "cone.glsl"
 #include "quadric.glsl"
 #include "shadow_map.glsl"
 
@@ -20,6 +22,8 @@ const int kBinarySteps = 1;
 const int kMinSteps = 2;
 const int kDepthScale = 3;
 const int kDistance = 4;
+const int kSearch = 5;
+const int kConeSteps = 6;
 
 const int kBaseColorSlot = 0;
 const int kNormalSlot = 1;
@@ -56,8 +60,16 @@ ShadeOut shade(FragIn in_) {
     TextureDepth depth =
         TextureDepth(compute_lod(vec2(textureSize(textures[kDepthSlot], 0)), in_.duv_dx, in_.duv_dy));
     QuadricRay ray = make_quadric_ray(kind, V, q, in_.tile_scale, sz);
-    float n = relief_step_count(V.z, material.params[kMinSteps], material.params[kSteps]);
-    QuadricHit h = quadric_search(kind, depth, in_.uv, ray, n, int(material.params[kBinarySteps]));
+    int m = int(material.params[kBinarySteps]);
+    QuadricHit h;
+    if (material.params[kSearch] >= 0.5 && has_texture[kConeSlot]) {
+      ConeSource cone = make_cone_source(depth, false);
+      h = quadric_relaxed_cone_search(kind, depth, cone, in_.uv, ray,
+                                      int(material.params[kConeSteps]), m);
+    } else {
+      float n = relief_step_count(V.z, material.params[kMinSteps], material.params[kSteps]);
+      h = quadric_search(kind, depth, in_.uv, ray, n, m);
+    }
     hit_uv = h.hit.uv;
     t = h.t;
     world_per_t = ray.world_per_t;

@@ -20,6 +20,8 @@
 #include <cmath>
 #include <cstdio>
 #include <set>
+#include <string>
+#include <utility>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -129,9 +131,26 @@ TEST(GlAgreement, BuiltinScenesMatchCpu) {
     ASSERT_TRUE(authored.ok()) << authored.status().message();
     // Each twin forced on every material, then (null) the scene's own techniques: scenes that
     // mix techniques, or whose materials cannot all take one (no depth map), run as authored.
-    std::vector<const PluginDescriptor*> runs = PluginRegistry::global().all();
-    runs.push_back(nullptr);
-    for (const PluginDescriptor* plugin : runs) {
+    // A plugin with a `search` choice runs once per search (relief_quadric: linear,
+    // relaxed_cone).
+    std::vector<std::pair<const PluginDescriptor*, std::string>> runs;
+    for (const PluginDescriptor* p : PluginRegistry::global().all()) {
+      const int search = param_index(*p, "search");
+      if (search < 0) {
+        runs.emplace_back(p, "");
+        continue;
+      }
+      const std::string labels = p->params[search].choices;
+      for (size_t at = 0; at != std::string::npos;) {
+        const size_t bar = labels.find('|', at);
+        runs.emplace_back(p, labels.substr(at, bar == std::string::npos ? bar : bar - at));
+        at = bar == std::string::npos ? bar : bar + 1;
+      }
+    }
+    runs.emplace_back(nullptr, "");
+    for (const auto& run : runs) {
+      const PluginDescriptor* plugin = run.first;
+      const std::string& search = run.second;  // (no structured binding: clang 14 and lambdas)
       if (plugin && !gl_has_twin(plugin->name)) continue;
       const bool has_effects =
           !plugin || (plugin->supported_effects & (kEffectSelfShadow | kEffectDepthWrite)) != 0;
@@ -140,6 +159,7 @@ TEST(GlAgreement, BuiltinScenesMatchCpu) {
         const Scene* scene = &scene_v;
         const std::string label =
             info.name + " / " + (plugin ? plugin->name : "(its own techniques)") +
+            (search.empty() ? std::string() : " search=" + search) +
             (variant < 0
                  ? std::string()
                  : std::string(" (forced") + (variant & 1 ? " self_shadow" : "") +
@@ -149,6 +169,7 @@ TEST(GlAgreement, BuiltinScenesMatchCpu) {
         opt.width = kWidth;
         opt.height = kHeight;
         opt.technique = plugin ? plugin->name : "";
+        if (!search.empty()) opt.params["search"] = search;
         opt.aovs = aov_bit(Aov::kHitUv) | aov_bit(Aov::kHitDepth) | aov_bit(Aov::kSteps);
         opt.count_work = true;
         Result<Plan> plan = make_plan(*scene, opt);

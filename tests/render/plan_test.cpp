@@ -119,6 +119,40 @@ TEST(Plan, TechniqueAndParamOverridesReachTheMaterialsTheyApplyTo) {
   EXPECT_NE(bad.status().message().find("'no_such_parameter'"), std::string::npos);
 }
 
+// A slot the chosen parameters do not read is neither required nor baked (reads_texture):
+// relief_quadric bakes its relaxed cone map for search=relaxed_cone only, and --explain says so.
+TEST(Plan, DerivedMapsAreBakedOnlyForTheParametersThatReadThem) {
+  Result<Scene> s = make_builtin_scene("sphere");
+  ASSERT_TRUE(s.ok());
+  RenderOptions opt = small_options();
+  opt.technique = "relief_quadric";
+  const auto cone_slot = [](const BoundMaterial& m) {
+    for (int i = 0; i < m.plugin->num_textures; ++i)
+      if (std::string(m.plugin->textures[i].name) == "cone_relaxed") return i;
+    return -1;
+  };
+  const auto says = [](const BoundMaterial& m, const std::string& text) {
+    for (const std::string& r : m.reasons)
+      if (r.find(text) != std::string::npos) return true;
+    return false;
+  };
+  const Plan linear = plan_of(*s, opt);
+  ASSERT_FALSE(linear.materials.empty());
+  const BoundMaterial& l = linear.materials[0];
+  ASSERT_GE(cone_slot(l), 0);
+  EXPECT_EQ(l.uniforms.textures[cone_slot(l)], nullptr);
+  EXPECT_TRUE(says(l, "cone_relaxed: not baked"));
+
+  opt.params = {{"search", "relaxed_cone"}};
+  const Plan relaxed = plan_of(*s, opt);
+  const BoundMaterial& r = relaxed.materials[0];
+  ASSERT_NE(r.uniforms.textures[cone_slot(r)], nullptr);
+  EXPECT_EQ(r.uniforms.textures[cone_slot(r)]->width(),
+            r.uniforms.textures[2]->width());  // slot 2: depth
+  EXPECT_FALSE(says(r, "not baked"));
+  EXPECT_TRUE(says(r, "cone_relaxed: relaxed cone map"));
+}
+
 TEST(Plan, RoomPlansReliefCastersAndReceivers) {
   const Scene s = room();
   const Plan p = plan_of(s);

@@ -154,6 +154,15 @@ void hard_cases() {
       EXPECT_EQ(lane(h8.miss, 0), hs.miss);
       EXPECT_EQ(lane(h8.hit.depth, 0), hs.hit.depth);
       EXPECT_EQ(lane(r8.t_max, 0), rs.t_max);
+      // search=relaxed_cone on the same rays
+      struct Ratio {
+        float operator()(int, float, float) const { return 0.6f; }
+      };
+      const QuadricHit<float> hc = quadric_relaxed_cone_search<kD>(
+          Hills(), Hills(), Ratio(), V2<float>(0.3f, 0.7f), rs, 15, 8, true);
+      ASSERT_TRUE(std::isfinite(hc.t) && hc.t >= 0.0f && hc.t <= rs.t_max) << first << " " << qi;
+      ASSERT_TRUE(std::isfinite(hc.hit.depth) && hc.hit.depth >= 0.0f && hc.hit.depth <= 1.0f);
+      ASSERT_TRUE(std::isfinite(hc.hit.uv.x) && std::isfinite(hc.hit.uv.y));
       for (int i = 0; i < 1000; ++i) {
         const float t = rs.t_max * i / 999.0f;
         ASSERT_TRUE(std::isfinite(quadric_distance<kD>(rs, t))) << first << " " << qi;
@@ -187,6 +196,100 @@ TEST(Quadric, ConvexGrazingRaysReturnAndAreDiscarded) {
   EXPECT_FALSE((quadric_search<QuadricDistance::kApproximate>(Deep(), V2<float>(0.0f, 0.0f), p,
                                                               32.0f, 8, true)
                     .miss));
+}
+
+
+// search=relaxed_cone on a field at constant depth c, with the wide cones such a field has
+// (ratios 1 to 8): each step solves the ray's parabola against the cone exactly, so the gap to
+// the plane shrinks every step and within 64 steps the march reaches the analytic root of
+// D(t) = c by equation 7, k t^2 - dz t + c = 0 (the halvings refine it where a step lands
+// inside); where that root lies beyond t_max the ray returns to depth 0 first and is a
+// silhouette miss. Both lane types, the 8-lane result bit-equal to the scalar one.
+TEST(Quadric, RelaxedConeSearchFindsTheAnalyticHitOnAConstantField) {
+  struct Constant {
+    float c;
+    float operator()(int, float, float) const { return c; }
+  };
+  struct Ratio {
+    float r;
+    float operator()(int, float, float) const { return r; }
+  };
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<float> ab(-3.0f, 3.0f), ang(0.0f, 89.0f), az(0.0f, 2.0f * kPi),
+      depth(0.05f, 0.95f), ratio(1.0f, 8.0f);
+  int hits = 0, misses = 0;
+  for (int i = 0; i < 4000; ++i) {
+    const Constant field{depth(rng)};
+    const Ratio cone{ratio(rng)};
+    const V3<float> V = view_at(ang(rng), az(rng));
+    const V2<float> q(ab(rng), ab(rng));
+    const auto r = make_quadric_ray<QuadricDistance::kApproximate>(V, q, V2<float>(0.7f, 0.4f),
+                                                                    0.08f);
+    const QuadricHit<float> h = quadric_relaxed_cone_search<QuadricDistance::kApproximate>(
+        field, field, cone, V2<float>(0.2f, 0.6f), r, 64, 24, true);
+    const float k = r.alpha * r.dir.x * r.dir.x + r.beta * r.dir.y * r.dir.y;
+    const float t_ref = detail::smallest_positive_root(k, -r.dir.z, field.c, 3.0e38f);
+    const bool miss_ref = !(t_ref <= r.t_max);
+    ASSERT_EQ(h.miss, miss_ref) << i << " t_ref " << t_ref << " t_max " << r.t_max;
+    if (miss_ref) {
+      ++misses;
+    } else {
+      ++hits;
+      EXPECT_NEAR(h.t, t_ref, 1e-4f * r.t_max + 1e-6f) << i;
+      EXPECT_NEAR(h.hit.depth, field.c, 1e-3f) << i;
+    }
+    // the 8-lane kernel, all lanes alike, gives the scalar bits
+    const auto r8 = make_quadric_ray<QuadricDistance::kApproximate>(
+        V3<F8>(F8(V.x), F8(V.y), F8(V.z)), V2<F8>(F8(q.x), F8(q.y)), V2<F8>(F8(0.7f), F8(0.4f)),
+        F8(0.08f));
+    const QuadricHit<F8> h8 = quadric_relaxed_cone_search<QuadricDistance::kApproximate>(
+        field, field, cone, V2<F8>(F8(0.2f), F8(0.6f)), r8, 64, 24, true_mask<F8>());
+    EXPECT_EQ(lane(h8.t, 5), h.t);
+    EXPECT_EQ(lane(h8.miss, 5), h.miss);
+    EXPECT_EQ(lane(h8.hit.steps, 5), h.hit.steps);
+  }
+  // both outcomes were exercised
+  EXPECT_GT(hits, 400);
+  EXPECT_GT(misses, 400);
+}
+
+// With cones no wider than the field allows (the Lipschitz bound of Hills: |grad| <= 0.4 sqrt(74)
+// depth per uv, so a ratio of 1 / 3.5 is conservative) the march can never step past the first
+// hit on the deformed field: it stops inside at or after it only within the last step, and a
+// ray that returns to depth 0 without a hit is discarded while a ray that hits is kept. The
+// reference: the linear search with 4096 steps and 30 halvings.
+TEST(Quadric, ConservativeConesNeverPassTheFirstHitOnTheDeformedField) {
+  struct Ratio {
+    float operator()(int, float, float) const { return 1.0f / 3.5f; }
+  };
+  std::mt19937 rng(12);
+  std::uniform_real_distribution<float> ab(-2.0f, 2.0f), ang(0.0f, 88.0f), az(0.0f, 2.0f * kPi);
+  int compared = 0, kept = 0, discarded = 0, disagreed = 0;
+  for (int i = 0; i < 1500; ++i) {
+    const V3<float> V = view_at(ang(rng), az(rng));
+    const V2<float> q(ab(rng), ab(rng));
+    const auto r = make_quadric_ray<QuadricDistance::kApproximate>(V, q, V2<float>(0.5f, 0.8f),
+                                                                    0.1f);
+    const V2<float> uv(0.3f, 0.7f);
+    const QuadricHit<float> ref =
+        quadric_search<QuadricDistance::kApproximate>(Hills(), uv, r, 4096.0f, 30, true);
+    const QuadricHit<float> h = quadric_relaxed_cone_search<QuadricDistance::kApproximate>(
+        Hills(), Hills(), Ratio(), uv, r, 256, 30, true);
+    ++compared;
+    if (h.miss != ref.miss) {
+      ++disagreed;  // a ray that grazes the field within the reference's 1 / 4096 sampling
+      continue;
+    }
+    if (ref.miss) {
+      ++discarded;
+      continue;
+    }
+    ++kept;
+    EXPECT_LE(h.t, ref.t + 1e-3f * r.t_max) << i;
+  }
+  EXPECT_LE(disagreed, compared / 100);
+  EXPECT_GT(kept, 300);
+  EXPECT_GT(discarded, 100);
 }
 
 }  // namespace
