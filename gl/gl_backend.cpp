@@ -17,6 +17,7 @@
 #include "gl/context.h"
 #include "gl/height_field.h"
 #include "gl/shader.h"
+#include "plugins/registry.h"
 #include "render/derived_maps.h"
 
 #ifndef GL_TEXTURE_MAX_ANISOTROPY
@@ -181,13 +182,6 @@ void drop_unowned(Map& cache, Delete del) {
       ++it;
     }
   }
-}
-
-// The plugin's texture slot called `name`, or -1.
-int slot_named(const PluginDescriptor& p, const char* name) {
-  for (int i = 0; i < p.num_textures; ++i)
-    if (std::string(p.textures[i].name) == name) return i;
-  return -1;
 }
 
 // Depth maps and cone maps (the slots the searches read) go up as 32-bit float of the CPU's
@@ -483,7 +477,7 @@ GLuint GlBackend::texture_for(const Texture* t, const BoundMaterial& m, Upload u
 
 Result<GLuint> GlBackend::height_field_for(const BoundMaterial& m,
                                            std::vector<GLuint>& transient_buffers) {
-  const int slot = slot_named(*m.plugin, "depth");
+  const int slot = texture_slot_index(*m.plugin, "depth");
   const Texture* t = slot >= 0 ? m.uniforms.textures[slot] : nullptr;
   if (!t || t->empty()) {
     if (!empty_field_) {

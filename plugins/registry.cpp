@@ -139,7 +139,11 @@ int param_index(const PluginDescriptor& plugin, const char* name) {
   return -1;
 }
 
-namespace {
+int texture_slot_index(const PluginDescriptor& plugin, const char* name) {
+  for (int i = 0; i < plugin.num_textures; ++i)
+    if (std::strcmp(plugin.textures[i].name, name) == 0) return i;
+  return -1;
+}
 
 std::vector<std::string> split_choices(const char* choices) {
   std::vector<std::string> out;
@@ -149,6 +153,8 @@ std::vector<std::string> split_choices(const char* choices) {
   while (std::getline(ss, item, '|')) out.push_back(item);
   return out;
 }
+
+namespace {
 
 // User text as it goes into a message: control characters escaped, so the message stays one line.
 std::string printable(const std::string& t) {

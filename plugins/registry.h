@@ -33,6 +33,9 @@ Result<std::vector<float>> resolve_params(const PluginDescriptor& plugin,
                                           const std::map<std::string, float>& overrides,
                                           const std::map<std::string, std::string>& text_overrides);
 int param_index(const PluginDescriptor& plugin, const char* name);  // -1 if absent
+int texture_slot_index(const PluginDescriptor& plugin, const char* name);  // -1 if absent
+// An enum's choices "a|b|c" as {"a", "b", "c"} (empty for nullptr).
+std::vector<std::string> split_choices(const char* choices);
 // "steps=32 (int, 1..256) ..." one line per parameter, for `relief techniques`.
 std::string describe_params(const PluginDescriptor& plugin);
 

@@ -140,12 +140,8 @@ TEST(GlAgreement, BuiltinScenesMatchCpu) {
         runs.emplace_back(p, "");
         continue;
       }
-      const std::string labels = p->params[search].choices;
-      for (size_t at = 0; at != std::string::npos;) {
-        const size_t bar = labels.find('|', at);
-        runs.emplace_back(p, labels.substr(at, bar == std::string::npos ? bar : bar - at));
-        at = bar == std::string::npos ? bar : bar + 1;
-      }
+      for (const std::string& choice : split_choices(p->params[search].choices))
+        runs.emplace_back(p, choice);
     }
     runs.emplace_back(nullptr, "");
     for (const auto& run : runs) {

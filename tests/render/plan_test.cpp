@@ -127,9 +127,7 @@ TEST(Plan, DerivedMapsAreBakedOnlyForTheParametersThatReadThem) {
   RenderOptions opt = small_options();
   opt.technique = "relief_quadric";
   const auto cone_slot = [](const BoundMaterial& m) {
-    for (int i = 0; i < m.plugin->num_textures; ++i)
-      if (std::string(m.plugin->textures[i].name) == "cone_relaxed") return i;
-    return -1;
+    return texture_slot_index(*m.plugin, "cone_relaxed");
   };
   const auto says = [](const BoundMaterial& m, const std::string& text) {
     for (const std::string& r : m.reasons)
@@ -148,7 +146,7 @@ TEST(Plan, DerivedMapsAreBakedOnlyForTheParametersThatReadThem) {
   const BoundMaterial& r = relaxed.materials[0];
   ASSERT_NE(r.uniforms.textures[cone_slot(r)], nullptr);
   EXPECT_EQ(r.uniforms.textures[cone_slot(r)]->width(),
-            r.uniforms.textures[2]->width());  // slot 2: depth
+            r.uniforms.textures[texture_slot_index(*r.plugin, "depth")]->width());
   EXPECT_FALSE(says(r, "not baked"));
   EXPECT_TRUE(says(r, "cone_relaxed: relaxed cone map"));
 }
