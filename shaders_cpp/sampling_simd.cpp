@@ -21,15 +21,13 @@ RELIEF_AVX2_ENTRY void r_lod_avx2(const RLodArgs& a) { r_lod_body(a); }
 
 }  // namespace
 
-F8 texture_r_lod_dispatch(const Texture& t, const SamplerState& s, const V2<F8>& uv,
-                          const F8& lod) {
-  F8 out;
-  const RLodArgs a{&t, &s, &uv, &lod, &out};
+void texture_r_lod_into(const Texture& t, const SamplerState& s, const V2<F8>& uv, const F8& lod,
+                        F8* out) {
+  const RLodArgs a{&t, &s, &uv, &lod, out};
   if (simd_avx2())
     r_lod_avx2(a);
   else
     r_lod_base(a);
-  return out;
 }
 
 }  // namespace relief
