@@ -3,8 +3,13 @@
 // the serial part of the rasterizer (setup_ms: clip, setup, binning), its parallel part
 // (raster_ms: traversal and shading) and the backend's remainder (other_ms: framebuffer, vertex
 // preparation). RELIEF_SIMD=baseline runs the baseline (SSE2) code paths.
+//
+// BM_Raster_*_GL renders the same frame with the GL backend (the GLSL twins; on this machine Mesa
+// llvmpipe, whose threads are set by LP_NUM_THREADS), so one run gives the CPU/llvmpipe ratio.
+// Its time is the main pass up to glFinish (PassStats::ms): no upload, no readback, no counters.
 #include <benchmark/benchmark.h>
 
+#include "gl/gl_backend.h"
 #include "rasterizer/simd.h"
 #include "render/render.h"
 #include "scene/builtin.h"
@@ -47,6 +52,31 @@ void run_plane(benchmark::State& state, const char* technique) {
   state.SetLabel(simd_level_name(simd_level()));
 }
 
+// The same frame on the GL backend: manual time = the main pass (PassStats::ms).
+void run_plane_gl(benchmark::State& state, const char* technique) {
+  Result<Scene> scene = make_builtin_scene("plane");
+  RenderOptions opt;
+  opt.width = 1920;
+  opt.height = 1080;
+  opt.technique = technique;
+  Result<Plan> plan = make_plan(*scene, opt);
+  auto backend = make_gl_backend();
+  if (!backend) {
+    state.SkipWithError(backend.status().message().c_str());
+    return;
+  }
+  (void)(*backend)->render(*scene, *plan, opt);  // warm-up: llvmpipe compiles its variants
+  uint64_t fragments = 0;
+  for (auto _ : state) {
+    Result<RenderResult> r = (*backend)->render(*scene, *plan, opt);
+    double pass_ms = 0.0;
+    for (const PassStats& p : r->passes) pass_ms += p.ms;
+    fragments += static_cast<uint64_t>(opt.width) * static_cast<uint64_t>(opt.height);
+    state.SetIterationTime(pass_ms * 1e-3);
+  }
+  state.SetItemsProcessed(static_cast<int64_t>(fragments));
+}
+
 void BM_Raster_Flat(benchmark::State& state) { run_plane(state, "flat"); }
 void BM_Raster_Normal(benchmark::State& state) { run_plane(state, "normal"); }
 
@@ -61,6 +91,11 @@ BENCHMARK(BM_Raster_Normal)
     ->ArgNames({"threads", "recycle"})
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
+
+void BM_Raster_Flat_GL(benchmark::State& state) { run_plane_gl(state, "flat"); }
+void BM_Raster_Normal_GL(benchmark::State& state) { run_plane_gl(state, "normal"); }
+BENCHMARK(BM_Raster_Flat_GL)->Unit(benchmark::kMillisecond)->UseManualTime();
+BENCHMARK(BM_Raster_Normal_GL)->Unit(benchmark::kMillisecond)->UseManualTime();
 
 }  // namespace
 }  // namespace relief
