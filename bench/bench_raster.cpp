@@ -17,15 +17,21 @@
 namespace relief {
 namespace {
 
-void run_plane(benchmark::State& state, const char* technique) {
-  const int threads = static_cast<int>(state.range(0));
-  const bool recycle = state.range(1) != 0;  // hand each frame back: no allocation per frame
-  Result<Scene> scene = make_builtin_scene("plane");
+// The benchmarked frame: `plane` at 1920x1080 with `technique`.
+RenderOptions plane_options(const char* technique, int threads) {
   RenderOptions opt;
   opt.width = 1920;
   opt.height = 1080;
   opt.threads = threads;
   opt.technique = technique;
+  return opt;
+}
+
+void run_plane(benchmark::State& state, const char* technique) {
+  const int threads = static_cast<int>(state.range(0));
+  const bool recycle = state.range(1) != 0;  // hand each frame back: no allocation per frame
+  Result<Scene> scene = make_builtin_scene("plane");
+  const RenderOptions opt = plane_options(technique, threads);
   Result<Plan> plan = make_plan(*scene, opt);
   auto backend = make_cpu_backend(threads);
   uint64_t fragments = 0;
@@ -55,10 +61,7 @@ void run_plane(benchmark::State& state, const char* technique) {
 // The same frame on the GL backend: manual time = the main pass (PassStats::ms).
 void run_plane_gl(benchmark::State& state, const char* technique) {
   Result<Scene> scene = make_builtin_scene("plane");
-  RenderOptions opt;
-  opt.width = 1920;
-  opt.height = 1080;
-  opt.technique = technique;
+  const RenderOptions opt = plane_options(technique, 0);  // llvmpipe's threads: LP_NUM_THREADS
   Result<Plan> plan = make_plan(*scene, opt);
   auto backend = make_gl_backend();
   if (!backend) {

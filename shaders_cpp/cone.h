@@ -82,6 +82,20 @@ struct QuadTextureCone {
   }
 };
 
+// What a cone step reads at p: the depth and the cone ratio, for the marching lanes; counts one
+// step and two fetches per marching lane.
+template <class F> struct ConeTexel {
+  F depth, ratio;
+};
+template <class F, class Depth, class Cone>
+inline ConeTexel<F> sample_cone_texel(const Depth& depth, const Cone& cone, const V2<F>& p,
+                                      mask_t<F> marching, F& steps, F& fetches) {
+  const ConeTexel<F> c{sample_depth(depth, p, marching), sample_depth(cone, p, marching)};
+  steps += detail::count<F>(marching);
+  fetches += detail::count<F>(marching) * F(2.0f);
+  return c;
+}
+
 // Cone stepping (n steps at most) from depth 0: the last position reached is the hit (for
 // conservative cones, a point at or above the first intersection once the cones are exact; it
 // has converged onto the surface only if enough steps were taken). t_max <= 1 per lane caps the
@@ -93,12 +107,9 @@ inline SearchHit<F> cone_march(const Depth& depth, const Cone& cone, V2<F> uv, V
   F t(0.0f), steps(0.0f), fetches(0.0f);
   mask_t<F> marching = active & (t < t_max);
   for (int i = 0; i < n && any(marching); ++i) {
-    const V2<F> p = uv + ds * t;
-    const F d = sample_depth(depth, p, marching);
-    const F r = sample_depth(cone, p, marching);
-    steps += detail::count<F>(marching);
-    fetches += detail::count<F>(marching) * F(2.0f);
-    const F h = d - t;
+    const ConeTexel<F> c = sample_cone_texel(depth, cone, uv + ds * t, marching, steps, fetches);
+    const F r = c.ratio;
+    const F h = c.depth - t;
     marching = marching & (h > F(0.0f));
     // distance to the cone's surface along the ray (equation 3)
     const F den = ray_ratio + r;

@@ -16,6 +16,7 @@
 // quadric is at least the depth map's value there.
 #pragma once
 
+#include "shaders_cpp/cone.h"
 #include "shaders_cpp/ray.h"
 #include "shaders_cpp/search.h"
 
@@ -209,13 +210,11 @@ inline QuadricHit<F> quadric_relaxed_cone_search(const MarchDepth& march_depth, 
   F t(0.0f), t_out(0.0f), steps(0.0f), fetches(0.0f);
   mask_t<F> marching = active, found = false_mask<F>();
   for (int i = 0; i < n && any(marching); ++i) {
-    const V2<F> p = uv + duv * t;
-    const F d = sample_depth(march_depth, p, marching);
-    const F ratio = sample_depth(cone, p, marching);
-    steps += detail::count<F>(marching);
-    fetches += detail::count<F>(marching) * F(2.0f);
+    const ConeTexel<F> c = sample_cone_texel(march_depth, cone, uv + duv * t, marching, steps,
+                                             fetches);
+    const F ratio = c.ratio;
     const mask_t<F> end = t >= r.t_max;
-    const F h = d - quadric_distance<kD>(r, t);
+    const F h = c.depth - quadric_distance<kD>(r, t);
     const mask_t<F> in = (h <= F(0.0f)) | (end & r.bottom);
     found = found | (marching & in);
     marching = marching & !in & !end;

@@ -150,6 +150,18 @@ float march_depth(TextureDepth depth, bool nearest, vec2 p) {
                  : sample_r_lod_cpu(kDepthSlot, p, depth.lod);
 }
 
+// What a cone step reads at p: the depth and the cone ratio; one step and two fetches.
+struct ConeTexel {
+  float depth;
+  float ratio;
+};
+ConeTexel cone_texel(TextureDepth depth, bool nearest, ConeSource cone, vec2 p, inout float steps,
+                     inout float fetches) {
+  steps += 1.0;
+  fetches += 2.0;
+  return ConeTexel(march_depth(depth, nearest, p), cone_ratio(cone, p));
+}
+
 // cone_march: n cone steps from depth 0, capped at t_max; two fetches per step.
 SearchHit cone_march(TextureDepth depth, bool nearest, ConeSource cone, vec2 uv, vec2 ds, int n,
                      float t_max) {
@@ -157,12 +169,9 @@ SearchHit cone_march(TextureDepth depth, bool nearest, ConeSource cone, vec2 uv,
   float t = 0.0, steps = 0.0, fetches = 0.0;
   bool marching = t < t_max;
   for (int i = 0; i < n && marching; ++i) {
-    vec2 p = uv + ds * t;
-    float d = march_depth(depth, nearest, p);
-    float r = cone_ratio(cone, p);
-    steps += 1.0;
-    fetches += 2.0;
-    float h = d - t;
+    ConeTexel c = cone_texel(depth, nearest, cone, uv + ds * t, steps, fetches);
+    float r = c.ratio;
+    float h = c.depth - t;
     marching = marching && h > 0.0;
     // distance to the cone's surface along the ray (equation 3)
     float den = ray_ratio + r;

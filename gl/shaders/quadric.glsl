@@ -167,13 +167,10 @@ QuadricHit quadric_relaxed_cone_search(int kind, TextureDepth depth, ConeSource 
   float t = 0.0, t_out = 0.0, steps = 0.0, fetches = 0.0;
   bool marching = true, found = false;
   for (int i = 0; i < n && marching; ++i) {
-    vec2 p = uv + duv * t;
-    float d = march_depth(depth, true, p);
-    float ratio = cone_ratio(cone, p);
-    steps += 1.0;
-    fetches += 2.0;
+    ConeTexel c = cone_texel(depth, true, cone, uv + duv * t, steps, fetches);
+    float ratio = c.ratio;
     bool end_ = t >= r.t_max;
-    precise float h = d - quadric_distance(kind, r, t);
+    precise float h = c.depth - quadric_distance(kind, r, t);
     bool inside = h <= 0.0 || (end_ && r.bottom);
     found = found || inside;
     marching = !inside && !end_;
