@@ -27,8 +27,8 @@ template <bool kReceive> struct FlatKernel {
 };
 
 ShadeFn select_flat(EffectMask e) {
-  return (e & kEffectReceiveShadow) ? &shade_packet_simd<FlatKernel<true>>
-                                    : &shade_packet_simd<FlatKernel<false>>;
+  return (e & kEffectReceiveShadow) ? &shade_packet<FlatKernel<true>>
+                                    : &shade_packet<FlatKernel<false>>;
 }
 DepthOutput depth_flat(EffectMask) { return DepthOutput::kNone; }
 

@@ -33,8 +33,8 @@ template <bool kReceive> struct NormalKernel {
 };
 
 ShadeFn select_normal(EffectMask e) {
-  return (e & kEffectReceiveShadow) ? &shade_packet_simd<NormalKernel<true>>
-                                    : &shade_packet_simd<NormalKernel<false>>;
+  return (e & kEffectReceiveShadow) ? &shade_packet<NormalKernel<true>>
+                                    : &shade_packet<NormalKernel<false>>;
 }
 DepthOutput depth_normal(EffectMask) { return DepthOutput::kNone; }
 

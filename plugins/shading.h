@@ -144,37 +144,30 @@ template <class Kernel>
   }
 }
 
-// The packet loop compiled twice (rasterizer/simd.h): baseline x86-64 and AVX2, each with the
-// kernel flattened (inlined) under it.
-template <class Kernel>
-RELIEF_BASE_ENTRY void shade_packet_base(const ShadeContext& ctx, const FragmentPacket& in,
-                                         FragmentOutput& out, WorkCounters& wc) {
-  shade_packet_body<Kernel>(ctx, in, out, wc);
-}
+// The 8-lane loop as an AVX2 clone (rasterizer/simd.h) with the kernel flattened under it. The
+// samplers stay out of line (shaders_cpp/sampling_simd.h), which keeps each clone small enough
+// to compile in seconds.
 template <class Kernel>
 RELIEF_AVX2_ENTRY void shade_packet_avx2(const ShadeContext& ctx, const FragmentPacket& in,
                                          FragmentOutput& out, WorkCounters& wc) {
-  shade_packet_body<Kernel>(ctx, in, out, wc);
+  const int lanes = in.num_quads * kQuadLanes;
+  for (int l = 0; l < lanes; l += 8) {
+    const FragIn<F8> f = load_fragment<F8>(in, l);
+    store_out(Kernel::template shade<F8>(ctx, f), in, l, out, wc);
+  }
 }
 
 }  // namespace detail
 
-// The ShadeFn of a kernel, baseline code only.
+// The ShadeFn of a kernel: the 8-lane loop's AVX2 clone where simd_level() says so, else
+// (baseline level, or scalar lanes) the loop as baseline code; same bits either way.
 template <class Kernel>
 void shade_packet(const ShadeContext& ctx, const FragmentPacket& in, FragmentOutput& out,
                   WorkCounters& wc) {
-  detail::shade_packet_body<Kernel>(ctx, in, out, wc);
-}
-
-// The ShadeFn of a kernel with an AVX2 clone picked by simd_level(); same bits as shade_packet.
-// Flattening costs compile time in proportion to the kernel, so kernels opt in (flat, normal).
-template <class Kernel>
-void shade_packet_simd(const ShadeContext& ctx, const FragmentPacket& in, FragmentOutput& out,
-                       WorkCounters& wc) {
-  if (simd_avx2())
+  if (simd_avx2() && !ctx.frame->scalar_lanes)
     detail::shade_packet_avx2<Kernel>(ctx, in, out, wc);
   else
-    detail::shade_packet_base<Kernel>(ctx, in, out, wc);
+    detail::shade_packet_body<Kernel>(ctx, in, out, wc);
 }
 
 }  // namespace relief

@@ -6,6 +6,7 @@
 
 #include "plugins/shading.h"
 #include "shaders_cpp/lighting.h"
+#include "shaders_cpp/sampling_simd.h"
 #include "shaders_cpp/shadow_map.h"
 
 namespace relief {
@@ -28,7 +29,7 @@ V3<F> sample_albedo(const MaterialUniforms& m, int slot, const V2<F>& uv, const 
                     F& fetches) {
   V3<F> albedo(glm::vec3(m.base_color));
   if (const Texture* t = m.textures[slot]) {
-    const V4<F> c = texture_grad(*t, m.samplers[slot], uv, in.duv_dx, in.duv_dy);
+    const V4<F> c = texture_grad_call(*t, m.samplers[slot], uv, in.duv_dx, in.duv_dy);
     albedo = albedo * c.xyz();
     fetches += F(1.0f);
   }
@@ -42,7 +43,7 @@ V3<F> sample_normal_map(const MaterialUniforms& m, int slot, const TangentFrame<
                         const V2<F>& uv, const FragIn<F>& in, F strength, F& fetches) {
   const Texture* t = m.textures[slot];
   if (!t) return tf.n;
-  const V4<F> c = texture_grad(*t, m.samplers[slot], uv, in.duv_dx, in.duv_dy);
+  const V4<F> c = texture_grad_call(*t, m.samplers[slot], uv, in.duv_dx, in.duv_dy);
   fetches += F(1.0f);
   return normalize(tf.to_world(V3<F>((c.x * F(2.0f) - F(1.0f)) * strength,
                                      (c.y * F(2.0f) - F(1.0f)) * strength,

@@ -160,10 +160,18 @@ inline F8 vsqrt(F8 a) {
   for (int i = 0; i < 8; ++i) r.v[i] = std::sqrt(a.v[i]);
   return r;
 }
+// std::floor over the lanes, bit for bit (-0 stays -0, NaN and |a| >= 2^23 pass through), without
+// SSE4.1's round instruction, which the baseline target lacks: truncate to int, step down where
+// that rounded a negative value up, and put the sign back (floor(-0.5) = -1, floor(-0.0) = -0).
 inline F8 vfloor(F8 a) {
-  F8 r;
-  for (int i = 0; i < 8; ++i) r.v[i] = std::floor(a.v[i]);
-  return r;
+  const v8i bits = reinterpret_cast<v8i>(a.v);
+  const v8f mag = reinterpret_cast<v8f>(bits & 0x7fffffff);
+  const v8i small = mag < 8388608.0f;  // false for NaN
+  const v8f x = small ? a.v : v8f{};
+  const v8f t = __builtin_convertvector(__builtin_convertvector(x, v8i), v8f);
+  const v8f f = t > x ? t - 1.0f : t;
+  const v8i signed_f = reinterpret_cast<v8i>(f) | (bits & int32_t(0x80000000u));
+  return F8(reinterpret_cast<v8f>(small ? signed_f : bits));
 }
 inline F8 load_lanes(const float* p, F8) { return F8::load(p); }
 inline void store_lanes(float* p, F8 x) { x.store(p); }

@@ -2,15 +2,23 @@
 //
 // 8-bit textures (R8, RG8, RGBA8) with bilinear, trilinear or (without derivatives) anisotropic
 // filtering and repeat or clamp wrapping take a path written once over the lane type F: level
-// choice, texel coordinates, weights and lerps run on all lanes at once; only the texel loads (and
-// sRGB table lookups) go lane by lane. It follows rasterizer/texture.cpp operation for operation
+// choice, texel coordinates, weights and lerps run on all lanes at once. Texel loads and sRGB
+// table lookups are AVX2 gathers when the CPU runs the AVX2 path (simd_avx2()) and lane by lane
+// otherwise; both read the same bytes, so the results are the same bits. It follows rasterizer/texture.cpp operation for operation
 // (GL 4.5, section 8.14), so textureLod equals sample_lod bit for bit; textureGrad takes its LOD
 // from vlog2 (lanes.h), within 1e-7 of std::log2. Other textures and filters call the scalar
 // sampler per lane. float and F8 agree bit for bit either way.
 #pragma once
 
+#include <climits>
+#include <type_traits>
+
 #include "rasterizer/texture.h"
 #include "shaders_cpp/vec.h"
+
+#if RELIEF_HAVE_AVX2_PATH
+#include <immintrin.h>
+#endif
 
 namespace relief {
 
@@ -49,6 +57,77 @@ inline F texel_coord(F u, F size) {
   return vmin(vmax(x, F(-67108864.0f)), F(67108864.0f));
 }
 
+// ---- AVX2 gathers ----
+// These functions are compiled for AVX2 whatever the caller: inlined into the AVX2 clones of
+// rasterizer/simd.h, called out of line from baseline code. Callers take them only when
+// simd_avx2() says the CPU has AVX2. Vectors cross by pointer, so no vector argument changes its
+// calling convention between the two targets.
+#if RELIEF_HAVE_AVX2_PATH
+// out[i] = lut[idx[i]] (idx in [0, 256)).
+[[gnu::target("avx2")]] inline void gather_table_avx2(const float* lut, const v8i* idx, v8f* out) {
+  *out = reinterpret_cast<v8f>(_mm256_i32gather_ps(lut, reinterpret_cast<__m256i>(*idx), 4));
+}
+// The four texel words of a bilinear footprint, texel indices idx[0..3] into the level bytes d
+// (kChannels bytes a texel, `bytes` in all, at least 4). A word is the texel's bytes in its low
+// kChannels bytes and zeros above, as bilinear8's lane-by-lane load makes it. Texels narrower than
+// 4 bytes are read by a 4-byte load that ends inside the level: at the texel's offset, or at
+// bytes - 4 and shifted down for the last texels.
+template <int kChannels>
+[[gnu::target("avx2")]] inline void gather_texels_avx2(const uint8_t* d, int32_t bytes,
+                                                        const v8i* idx, v8i* out) {
+  const int* base = reinterpret_cast<const int*>(d);
+  for (int c = 0; c < 4; ++c) {
+    const v8i off = idx[c] * kChannels;
+    if constexpr (kChannels == 4) {
+      out[c] = reinterpret_cast<v8i>(_mm256_i32gather_epi32(base, reinterpret_cast<__m256i>(off), 1));
+    } else {
+      const v8i last = v8i{} + (bytes - 4);
+      const v8i at = off < last ? off : last;
+      const v8i word =
+          reinterpret_cast<v8i>(_mm256_i32gather_epi32(base, reinterpret_cast<__m256i>(at), 1));
+      const v8i shifted = reinterpret_cast<v8i>(
+          _mm256_srlv_epi32(reinterpret_cast<__m256i>(word), reinterpret_cast<__m256i>((off - at) * 8)));
+      out[c] = shifted & ((1 << (8 * kChannels)) - 1);
+    }
+  }
+}
+#endif
+
+// lut[idx] over eight lanes: a gather on the AVX2 path.
+inline F8 table_lookup8(const float* lut, I8 idx) {
+#if RELIEF_HAVE_AVX2_PATH
+  if (simd_avx2()) {
+    F8 r;
+    gather_table_avx2(lut, &idx.v, &r.v);
+    return r;
+  }
+#endif
+  F8 r;
+  for (int k = 0; k < 8; ++k) r.v[k] = lut[idx.v[k]];
+  return r;
+}
+
+// The texel words of a bilinear footprint (idx: four texel indices per lane) from one level by
+// AVX2 gathers; false where the caller must load lane by lane (float lanes, no AVX2, a level of
+// fewer than 4 bytes or too large for 32-bit offsets).
+template <int kChannels>
+inline bool gather_footprint(const MipLevel&, const int32_t*, int32_t*) {
+  return false;
+}
+template <int kChannels>
+inline bool gather_footprint(const MipLevel& level, const I8* idx, I8* words) {
+#if RELIEF_HAVE_AVX2_PATH
+  const size_t bytes = level.data.size();
+  if (!simd_avx2() || bytes < 4 || bytes > size_t(INT_MAX)) return false;
+  static_assert(sizeof(I8) == sizeof(v8i));
+  gather_texels_avx2<kChannels>(level.data.data(), static_cast<int32_t>(bytes),
+                                reinterpret_cast<const v8i*>(idx), reinterpret_cast<v8i*>(words));
+  return true;
+#else
+  return false;
+#endif
+}
+
 // Channel c (0..3) of 8-bit texels packed little-endian in `word`, decoded like texture.cpp.
 template <int kChannels, class F>
 inline F decode8(int_t<F> word, int c, const float* lut, bool srgb) {
@@ -56,14 +135,18 @@ inline F decode8(int_t<F> word, int c, const float* lut, bool srgb) {
   if (c >= kChannels) return F(c == 3 ? 1.0f : 0.0f);
   const I byte = (word >> (8 * c)) & I(0xff);
   if (!srgb || c == 3) return to_float(byte) / F(255.0f);  // == unorm8_table (tested)
-  F r;
-  for (int k = 0; k < lane_width<F>; ++k) set_lane(r, k, lut[lane(byte, k)]);
-  return r;
+  if constexpr (std::is_same_v<F, F8>) {
+    return table_lookup8(lut, byte);
+  } else {
+    F r;
+    for (int k = 0; k < lane_width<F>; ++k) set_lane(r, k, lut[lane(byte, k)]);
+    return r;
+  }
 }
 
 // GL bilinear at per-lane mip level `lvl` of an 8-bit texture with kChannels channels.
 template <int kChannels, class F>
-inline V4<F> bilinear8(const Texture& t, const SamplerState& s, V2<F> uv, int_t<F> lvl, bool pow2,
+[[gnu::always_inline]] inline V4<F> bilinear8(const Texture& t, const SamplerState& s, V2<F> uv, int_t<F> lvl, bool pow2,
                        int channels_used) {
   using I = int_t<F>;
   const I w = vmax(I(t.width()) >> lvl, I(1));
@@ -84,7 +167,14 @@ inline V4<F> bilinear8(const Texture& t, const SamplerState& s, V2<F> uv, int_t<
     return static_cast<int32_t>(v);
   };
   const int lvl0 = lane(lvl, 0);
-  if (all(lvl == I(lvl0))) {  // the usual case: one level for the packet (LOD is per quad)
+  const bool one_level = all(lvl == I(lvl0));  // the usual case: LOD is per quad
+  I idx[4] = {i00, i10, i01, i11}, words[4];
+  if (one_level && gather_footprint<kChannels>(t.level(lvl0), idx, words)) {
+    t00 = words[0];
+    t10 = words[1];
+    t01 = words[2];
+    t11 = words[3];
+  } else if (one_level) {
     const uint8_t* d = t.level(lvl0).data.data();
     for (int k = 0; k < lane_width<F>; ++k) {
       set_lane(t00, k, load(d, lane(i00, k)));

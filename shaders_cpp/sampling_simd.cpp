@@ -19,6 +19,21 @@ struct RLodArgs {
 RELIEF_BASE_ENTRY void r_lod_base(const RLodArgs& a) { r_lod_body(a); }
 RELIEF_AVX2_ENTRY void r_lod_avx2(const RLodArgs& a) { r_lod_body(a); }
 
+struct GradArgs {
+  const Texture* t;
+  const SamplerState* s;
+  const V2<F8>* uv;
+  const V2<F8>* dx;
+  const V2<F8>* dy;
+  V4<F8>* out;
+};
+
+[[gnu::always_inline]] inline void grad_body(const GradArgs& a) {
+  *a.out = texture_grad(*a.t, *a.s, *a.uv, *a.dx, *a.dy);
+}
+RELIEF_BASE_ENTRY void grad_base(const GradArgs& a) { grad_body(a); }
+RELIEF_AVX2_ENTRY void grad_avx2(const GradArgs& a) { grad_body(a); }
+
 }  // namespace
 
 void texture_r_lod_into(const Texture& t, const SamplerState& s, const V2<F8>& uv, const F8& lod,
@@ -28,6 +43,15 @@ void texture_r_lod_into(const Texture& t, const SamplerState& s, const V2<F8>& u
     r_lod_avx2(a);
   else
     r_lod_base(a);
+}
+
+void texture_grad_into(const Texture& t, const SamplerState& s, const V2<F8>& uv,
+                       const V2<F8>& dx, const V2<F8>& dy, V4<F8>* out) {
+  const GradArgs a{&t, &s, &uv, &dx, &dy, out};
+  if (simd_avx2())
+    grad_avx2(a);
+  else
+    grad_base(a);
 }
 
 }  // namespace relief

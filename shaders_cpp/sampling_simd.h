@@ -1,8 +1,12 @@
-// Lane-parallel texture reads for kernels whose packet loop is baseline code (the relief family:
-// flattening their large kernels into AVX2 clones costs too much compile time). The sampler is the
-// hot part of their searches, so it gets its own entry points with AVX2 clones (rasterizer/simd.h)
-// chosen at run time: same IEEE operations, same bits as texture_r_lod (sampling.h) either way.
+// Lane-parallel texture reads as out-of-line entry points, each compiled once for the whole
+// program as baseline code and as an AVX2 clone (rasterizer/simd.h) chosen at run time: same IEEE
+// operations, same bits as texture_r_lod / texture_grad (sampling.h) either way. Kernels call
+// these instead of inlining the sampler: inlined, every format, filter and level path of the
+// sampler is copied into every kernel variant's clone, which made the kernels' AVX2 clones too
+// large to compile (docs/performance.md); out of line they cost a call and a few stores a read.
 #pragma once
+
+#include <type_traits>
 
 #include "shaders_cpp/lanes.h"
 #include "shaders_cpp/sampling.h"
@@ -21,6 +25,27 @@ inline F8 texture_r_lod_dispatch(const Texture& t, const SamplerState& s, const 
   F8 out;
   texture_r_lod_into(t, s, uv, lod, &out);
   return out;
+}
+
+// texture_grad over eight lanes into *out (same rules as texture_r_lod_into).
+void texture_grad_into(const Texture& t, const SamplerState& s, const V2<F8>& uv,
+                       const V2<F8>& dx, const V2<F8>& dy, V4<F8>* out);
+
+inline V4<F8> texture_grad_dispatch(const Texture& t, const SamplerState& s, const V2<F8>& uv,
+                                    const V2<F8>& dx, const V2<F8>& dy) {
+  V4<F8> out;
+  texture_grad_into(t, s, uv, dx, dy, &out);
+  return out;
+}
+
+// texture_grad for kernels over either lane type: F8 through the out-of-line entry.
+template <class F>
+inline V4<F> texture_grad_call(const Texture& t, const SamplerState& s, const V2<F>& uv,
+                               const V2<F>& dx, const V2<F>& dy) {
+  if constexpr (std::is_same_v<F, F8>)
+    return texture_grad_dispatch(t, s, uv, dx, dy);
+  else
+    return texture_grad(t, s, uv, dx, dy);
 }
 
 }  // namespace relief

@@ -40,8 +40,7 @@ struct TextureDepth {
   }
   // All lanes through the lane-parallel sampler (bit-identical to operator() per lane).
   template <class F> F lanes(V2<F> uv) const {
-    F l;
-    for (int k = 0; k < lane_width<F>; ++k) set_lane(l, k, lod[k]);
+    const F l = load_lanes(lod, F());
     if constexpr (std::is_same_v<F, F8>)
       return texture_r_lod_dispatch(*texture, *sampler, uv, l);
     else

@@ -3,7 +3,9 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstring>
 #include <random>
+#include <vector>
 
 #include "float_bits.h"
 #include "shaders_cpp/lanes.h"
@@ -56,6 +58,38 @@ TEST(LanesMath, PowMatchesLibmOnTheSpecularDomain) {
   EXPECT_EQ(vpow_fast(0.0f, 32.0f), 0.0f);
   EXPECT_EQ(vpow_fast(0.0f, 0.0f), 1.0f);
   EXPECT_EQ(vpow_fast(1.0f, 32.0f), 1.0f);
+}
+
+// vfloor(F8) is written without a round instruction; it must still be std::floor bit for bit.
+TEST(LanesMath, F8FloorIsStdFloorBitForBit) {
+  std::vector<float> xs = {0.0f, -0.0f, 0.5f, -0.5f, 1.0f, -1.0f, 1.5f, -1.5f, 2.0f - 1e-7f,
+                           -2.0f + 1e-7f, 8388607.5f, -8388607.5f, 8388608.0f, -8388608.0f,
+                           16777217.0f, 1e30f, -1e30f, 1e-45f, -1e-45f, 1.17549435e-38f,
+                           -1.17549435e-38f, INFINITY, -INFINITY, NAN, -NAN, 2147483648.0f,
+                           -2147483904.0f, 0.99999994f, -0.99999994f};
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<float> wide(-1e7f, 1e7f), narrow(-4.0f, 4.0f);
+  std::uniform_int_distribution<uint32_t> any_bits;
+  for (int i = 0; i < 20000; ++i) {
+    xs.push_back(wide(rng));
+    xs.push_back(narrow(rng));
+    const uint32_t b = any_bits(rng);
+    float x;
+    std::memcpy(&x, &b, 4);
+    xs.push_back(x);
+  }
+  while (xs.size() % 8) xs.push_back(0.25f);
+  for (size_t i = 0; i < xs.size(); i += 8) {
+    const F8 r = vfloor(F8::load(&xs[i]));
+    for (int k = 0; k < 8; ++k) {
+      const float want = std::floor(xs[i + k]);
+      if (std::isnan(want)) {
+        EXPECT_TRUE(std::isnan(r[k])) << xs[i + k];
+      } else {
+        EXPECT_EQ(float_bits(r[k]), float_bits(want)) << xs[i + k];
+      }
+    }
+  }
 }
 
 TEST(LanesMath, FloatAndF8AreBitIdentical) {
