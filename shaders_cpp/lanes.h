@@ -130,16 +130,14 @@ inline int32_t trunc_to_int(float x) { return static_cast<int32_t>(x); }  // |x|
 
 // ---- 8 lanes ----
 inline F8 select(M8 m, F8 a, F8 b) { return F8(m.v ? a.v : b.v); }
+// A lane is true when its word is not zero. any/all OR the mask's four 64-bit words together:
+// branch-free, where a lane-by-lane loop costs a branch a lane (a search loop asks every step).
 inline bool any(M8 m) {
-  for (int i = 0; i < 8; ++i)
-    if (m.v[i]) return true;
-  return false;
+  uint64_t w[4];
+  std::memcpy(w, &m.v, sizeof w);
+  return (w[0] | w[1] | w[2] | w[3]) != 0;
 }
-inline bool all(M8 m) {
-  for (int i = 0; i < 8; ++i)
-    if (!m.v[i]) return false;
-  return true;
-}
+inline bool all(M8 m) { return !any(M8{m.v == 0}); }
 inline bool none(M8 m) { return !any(m); }
 inline float lane(F8 x, int i) { return x.v[i]; }
 inline bool lane(M8 m, int i) { return m.v[i] != 0; }

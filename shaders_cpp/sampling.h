@@ -59,42 +59,40 @@ inline F texel_coord(F u, F size) {
 
 // ---- AVX2 gathers ----
 // These functions are compiled for AVX2 whatever the caller: inlined into the AVX2 clones of
-// rasterizer/simd.h, called out of line from baseline code. Callers take them only when
-// simd_avx2() says the CPU has AVX2. Vectors cross by pointer, so no vector argument changes its
-// calling convention between the two targets.
+// rasterizer/simd.h (shaders_cpp/sampling_simd.cpp's sampler entries). Baseline code reaches them
+// only behind simd_avx2(), which is false wherever the baseline path runs. Vectors cross by
+// pointer, so no vector argument changes its calling convention between the two targets.
 #if RELIEF_HAVE_AVX2_PATH
 // out[i] = lut[idx[i]] (idx in [0, 256)).
 [[gnu::target("avx2")]] inline void gather_table_avx2(const float* lut, const v8i* idx, v8f* out) {
   *out = reinterpret_cast<v8f>(_mm256_i32gather_ps(lut, reinterpret_cast<__m256i>(*idx), 4));
 }
-// The four texel words of a bilinear footprint, texel indices idx[0..3] into the level bytes d
-// (kChannels bytes a texel, `bytes` in all, at least 4). A word is the texel's bytes in its low
-// kChannels bytes and zeros above, as bilinear8's lane-by-lane load makes it. Texels narrower than
-// 4 bytes are read by a 4-byte load that ends inside the level: at the texel's offset, or at
-// bytes - 4 and shifted down for the last texels.
+// One texel word per lane, texel indices `idx` into the level bytes d (kChannels bytes a texel,
+// `bytes` in all, at least 4). A word is the texel's bytes in its low kChannels bytes and zeros
+// above, as bilinear8's lane-by-lane load makes it. Texels narrower than 4 bytes are read by a
+// 4-byte load that ends inside the level: at the texel's offset, or at bytes - 4 and shifted down
+// for the last texels.
 template <int kChannels>
-[[gnu::target("avx2")]] inline void gather_texels_avx2(const uint8_t* d, int32_t bytes,
-                                                        const v8i* idx, v8i* out) {
+[[gnu::target("avx2")]] inline void gather_word_avx2(const uint8_t* d, int32_t bytes,
+                                                      const v8i* idx, v8i* out) {
   const int* base = reinterpret_cast<const int*>(d);
-  for (int c = 0; c < 4; ++c) {
-    const v8i off = idx[c] * kChannels;
-    if constexpr (kChannels == 4) {
-      out[c] = reinterpret_cast<v8i>(_mm256_i32gather_epi32(base, reinterpret_cast<__m256i>(off), 1));
-    } else {
-      const v8i last = v8i{} + (bytes - 4);
-      const v8i at = off < last ? off : last;
-      const v8i word =
-          reinterpret_cast<v8i>(_mm256_i32gather_epi32(base, reinterpret_cast<__m256i>(at), 1));
-      const v8i shifted = reinterpret_cast<v8i>(
-          _mm256_srlv_epi32(reinterpret_cast<__m256i>(word), reinterpret_cast<__m256i>((off - at) * 8)));
-      out[c] = shifted & ((1 << (8 * kChannels)) - 1);
-    }
+  const v8i off = *idx * kChannels;
+  if constexpr (kChannels == 4) {
+    *out = reinterpret_cast<v8i>(_mm256_i32gather_epi32(base, reinterpret_cast<__m256i>(off), 1));
+  } else {
+    const v8i last = v8i{} + (bytes - 4);
+    const v8i at = off < last ? off : last;
+    const v8i word =
+        reinterpret_cast<v8i>(_mm256_i32gather_epi32(base, reinterpret_cast<__m256i>(at), 1));
+    const v8i shifted = reinterpret_cast<v8i>(_mm256_srlv_epi32(
+        reinterpret_cast<__m256i>(word), reinterpret_cast<__m256i>((off - at) * 8)));
+    *out = shifted & ((1 << (8 * kChannels)) - 1);
   }
 }
 #endif
 
 // lut[idx] over eight lanes: a gather on the AVX2 path.
-inline F8 table_lookup8(const float* lut, I8 idx) {
+[[gnu::always_inline]] inline F8 table_lookup8(const float* lut, I8 idx) {
 #if RELIEF_HAVE_AVX2_PATH
   if (simd_avx2()) {
     F8 r;
@@ -107,25 +105,32 @@ inline F8 table_lookup8(const float* lut, I8 idx) {
   return r;
 }
 
-// The texel words of a bilinear footprint (idx: four texel indices per lane) from one level by
-// AVX2 gathers; false where the caller must load lane by lane (float lanes, no AVX2, a level of
-// fewer than 4 bytes or too large for 32-bit offsets).
-template <int kChannels>
-inline bool gather_footprint(const MipLevel&, const int32_t*, int32_t*) {
-  return false;
-}
-template <int kChannels>
-inline bool gather_footprint(const MipLevel& level, const I8* idx, I8* words) {
+// Whether bilinear8 gathers its texel words from `level`: the AVX2 path, 8 lanes, a level of at
+// least 4 bytes and small enough for 32-bit offsets; elsewhere it loads lane by lane.
+template <class F>
+inline bool can_gather(const MipLevel& level) {
 #if RELIEF_HAVE_AVX2_PATH
   const size_t bytes = level.data.size();
-  if (!simd_avx2() || bytes < 4 || bytes > size_t(INT_MAX)) return false;
-  static_assert(sizeof(I8) == sizeof(v8i));
-  gather_texels_avx2<kChannels>(level.data.data(), static_cast<int32_t>(bytes),
-                                reinterpret_cast<const v8i*>(idx), reinterpret_cast<v8i*>(words));
-  return true;
+  return std::is_same_v<F, F8> && simd_avx2() && bytes >= 4 && bytes <= size_t(INT_MAX);
 #else
+  (void)level;
   return false;
 #endif
+}
+
+// The texel words at `idx` of `level` by an AVX2 gather (can_gather said yes).
+template <int kChannels>
+inline I8 gather_word(const MipLevel&, int32_t) {
+  return I8();  // float lanes never gather
+}
+template <int kChannels>
+[[gnu::always_inline]] inline I8 gather_word(const MipLevel& level, const I8& idx) {
+  I8 out;
+#if RELIEF_HAVE_AVX2_PATH
+  gather_word_avx2<kChannels>(level.data.data(), static_cast<int32_t>(level.data.size()), &idx.v,
+                              &out.v);
+#endif
+  return out;
 }
 
 // Channel c (0..3) of 8-bit texels packed little-endian in `word`, decoded like texture.cpp.
@@ -145,9 +150,9 @@ inline F decode8(int_t<F> word, int c, const float* lut, bool srgb) {
 }
 
 // GL bilinear at per-lane mip level `lvl` of an 8-bit texture with kChannels channels.
-template <int kChannels, class F>
-[[gnu::always_inline]] inline V4<F> bilinear8(const Texture& t, const SamplerState& s, V2<F> uv, int_t<F> lvl, bool pow2,
-                       int channels_used) {
+template <int kChannels, int kUsed, class F>
+[[gnu::always_inline]] inline V4<F> bilinear8(const Texture& t, const SamplerState& s, V2<F> uv,
+                                              int_t<F> lvl, bool pow2) {
   using I = int_t<F>;
   const I w = vmax(I(t.width()) >> lvl, I(1));
   const I h = vmax(I(t.height()) >> lvl, I(1));
@@ -168,12 +173,14 @@ template <int kChannels, class F>
   };
   const int lvl0 = lane(lvl, 0);
   const bool one_level = all(lvl == I(lvl0));  // the usual case: LOD is per quad
-  I idx[4] = {i00, i10, i01, i11}, words[4];
-  if (one_level && gather_footprint<kChannels>(t.level(lvl0), idx, words)) {
-    t00 = words[0];
-    t10 = words[1];
-    t01 = words[2];
-    t11 = words[3];
+  if (one_level && can_gather<F>(t.level(lvl0))) {
+    if constexpr (std::is_same_v<F, F8>) {
+      const MipLevel& level = t.level(lvl0);
+      t00 = gather_word<kChannels>(level, i00);
+      t10 = gather_word<kChannels>(level, i10);
+      t01 = gather_word<kChannels>(level, i01);
+      t11 = gather_word<kChannels>(level, i11);
+    }
   } else if (one_level) {
     const uint8_t* d = t.level(lvl0).data.data();
     for (int k = 0; k < lane_width<F>; ++k) {
@@ -192,10 +199,10 @@ template <int kChannels, class F>
     }
   }
   const bool srgb = t.color_space() == ColorSpace::kSRGB;
-  const float* lut = srgb ? srgb8_table() : unorm8_table();
+  const float* lut = srgb ? srgb8_table() : nullptr;  // decode8 reads it for sRGB only
   F out[4];
   for (int c = 0; c < 4; ++c) {
-    if (c >= channels_used) {
+    if (c >= kUsed) {
       out[c] = F(0.0f);
       continue;
     }
@@ -217,21 +224,20 @@ inline V4<F> lerp4(V4<F> p, V4<F> q, F f) {
 }
 
 // textureLod on the lane-parallel path (texture.cpp's sample_lod_impl, lane by lane).
-template <int kChannels, class F>
-inline V4<F> sample_lod8(const Texture& t, const SamplerState& s, V2<F> uv, F lod,
-                         int channels_used) {
+template <int kChannels, int kUsed, class F>
+inline V4<F> sample_lod8(const Texture& t, const SamplerState& s, V2<F> uv, F lod) {
   using I = int_t<F>;
   const int q = t.levels() - 1;
   const bool pow2 = (t.width() & (t.width() - 1)) == 0 && (t.height() & (t.height() - 1)) == 0;
   lod = vmin(vmax(select(lod == lod, lod, F(0.0f)), F(-64.0f)), F(64.0f));
   const mask_t<F> base = lod <= F(0.0f);
-  if (q == 0) return bilinear8<kChannels, F>(t, s, uv, I(0), pow2, channels_used);
+  if (q == 0) return bilinear8<kChannels, kUsed, F>(t, s, uv, I(0), pow2);
   if (s.filter == Filter::kBilinear) {
     // LINEAR_MIPMAP_NEAREST: the level nearest to lod.
     const F fq = F(static_cast<float>(q));
     I lvl = vmin(trunc_to_int(-vfloor(-(lod + F(0.5f)))) - I(1), I(q));  // ceil
     lvl = select(lod <= F(0.5f), I(0), select(lod > fq + F(0.5f), I(q), lvl));
-    return bilinear8<kChannels, F>(t, s, uv, lvl, pow2, channels_used);
+    return bilinear8<kChannels, kUsed, F>(t, s, uv, lvl, pow2);
   }
   // Trilinear: the two levels around lod; f = 0 where one level is exact.
   const F fq = F(static_cast<float>(q));
@@ -239,22 +245,21 @@ inline V4<F> sample_lod8(const Texture& t, const SamplerState& s, V2<F> uv, F lo
   const mask_t<F> top = lod >= fq;
   const I d1 = select(base, I(0), select(top, I(q), trunc_to_int(vmax(fl, F(0.0f)))));
   const F f = select(base | top, F(0.0f), lod - fl);
-  const V4<F> t1 = bilinear8<kChannels, F>(t, s, uv, d1, pow2, channels_used);
+  const V4<F> t1 = bilinear8<kChannels, kUsed, F>(t, s, uv, d1, pow2);
   if (none(f != F(0.0f))) return t1;
-  const V4<F> t2 = bilinear8<kChannels, F>(t, s, uv, vmin(d1 + I(1), I(q)), pow2, channels_used);
+  const V4<F> t2 = bilinear8<kChannels, kUsed, F>(t, s, uv, vmin(d1 + I(1), I(q)), pow2);
   return lerp4(t1, t2, f);
 }
 
-template <class F>
-inline V4<F> sample_lod_lanes(const Texture& t, const SamplerState& s, V2<F> uv, F lod,
-                              int channels_used) {
+template <int kUsed, class F>
+inline V4<F> sample_lod_lanes(const Texture& t, const SamplerState& s, V2<F> uv, F lod) {
   switch (t.format()) {
     case TexFormat::kR8:
-      return sample_lod8<1, F>(t, s, uv, lod, channels_used);
+      return sample_lod8<1, kUsed, F>(t, s, uv, lod);
     case TexFormat::kRG8:
-      return sample_lod8<2, F>(t, s, uv, lod, channels_used);
+      return sample_lod8<2, kUsed, F>(t, s, uv, lod);
     default:
-      return sample_lod8<4, F>(t, s, uv, lod, channels_used);
+      return sample_lod8<4, kUsed, F>(t, s, uv, lod);
   }
 }
 
@@ -282,7 +287,7 @@ template <class F> inline void set_lane4(V4<F>& r, int i, const glm::vec4& c) {
 template <class F>
 inline V4<F> texture_grad(const Texture& t, const SamplerState& s, V2<F> uv, V2<F> dx, V2<F> dy) {
   if (s.filter != Filter::kAnisotropic && detail::vector_sampling_ok(t, s))
-    return detail::sample_lod_lanes(t, s, uv, detail::lod_from_grad(t, dx, dy), 4);
+    return detail::sample_lod_lanes<4>(t, s, uv, detail::lod_from_grad(t, dx, dy));
   V4<F> r;
   for (int i = 0; i < lane_width<F>; ++i) {
     const glm::vec4 c = sample_grad(t, s, {lane(uv.x, i), lane(uv.y, i)},
@@ -294,7 +299,7 @@ inline V4<F> texture_grad(const Texture& t, const SamplerState& s, V2<F> uv, V2<
 
 template <class F>
 inline V4<F> texture_lod(const Texture& t, const SamplerState& s, V2<F> uv, F lod) {
-  if (detail::vector_sampling_ok(t, s)) return detail::sample_lod_lanes(t, s, uv, lod, 4);
+  if (detail::vector_sampling_ok(t, s)) return detail::sample_lod_lanes<4>(t, s, uv, lod);
   V4<F> r;
   for (int i = 0; i < lane_width<F>; ++i) {
     const glm::vec4 c = sample_lod(t, s, {lane(uv.x, i), lane(uv.y, i)}, lane(lod, i));
@@ -305,7 +310,7 @@ inline V4<F> texture_lod(const Texture& t, const SamplerState& s, V2<F> uv, F lo
 
 template <class F>
 inline F texture_r_lod(const Texture& t, const SamplerState& s, V2<F> uv, F lod) {
-  if (detail::vector_sampling_ok(t, s)) return detail::sample_lod_lanes(t, s, uv, lod, 1).x;
+  if (detail::vector_sampling_ok(t, s)) return detail::sample_lod_lanes<1>(t, s, uv, lod).x;
   return per_lane(uv.x, [&](int i) {
     return sample_r_lod(t, s, {lane(uv.x, i), lane(uv.y, i)}, lane(lod, i));
   });
