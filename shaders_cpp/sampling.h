@@ -1,11 +1,12 @@
 // Texture sampling over lanes: the GLSL texture(), textureLod() and textureGrad() of kernels.
 //
-// 8-bit textures (R8, RG8, RGBA8) with bilinear, trilinear or (without derivatives) anisotropic
-// filtering and repeat or clamp wrapping take a path written once over the lane type F: level
-// choice, texel coordinates, weights and lerps run on all lanes at once. Texel loads and sRGB
-// table lookups are AVX2 gathers when the CPU runs the AVX2 path (simd_avx2()) and lane by lane
-// otherwise; both read the same bytes, so the results are the same bits. It follows rasterizer/texture.cpp operation for operation
-// (GL 4.5, section 8.14), so textureLod equals sample_lod bit for bit; textureGrad takes its LOD
+// 8-bit textures (R8, RG8, RGBA8) and R32F with nearest, bilinear, trilinear or (without derivatives)
+// anisotropic filtering and repeat or clamp wrapping take a path written once over the lane type
+// F: level choice, texel coordinates, weights and lerps run on all lanes at once. Texel loads and
+// sRGB table lookups are AVX2 gathers when the CPU runs the AVX2 path (simd_avx2()) and lane by
+// lane otherwise; both read the same bytes, so the results are the same bits. It follows
+// rasterizer/texture.cpp operation for operation (GL 4.5, section 8.14), so textureLod equals
+// sample_lod bit for bit; textureGrad takes its LOD
 // from vlog2 (lanes.h), within 1e-7 of std::log2. Other textures and filters call the scalar
 // sampler per lane. float and F8 agree bit for bit either way.
 #pragma once
@@ -33,10 +34,11 @@ namespace detail {
 // Whether the lane-parallel path serves this texture and sampler (textureLod rules).
 inline bool vector_sampling_ok(const Texture& t, const SamplerState& s) {
   const TexFormat f = t.format();
-  const bool bytes = f == TexFormat::kR8 || f == TexFormat::kRG8 || f == TexFormat::kRGBA8;
+  const bool lanes = f == TexFormat::kR8 || f == TexFormat::kRG8 || f == TexFormat::kRGBA8 ||
+                     f == TexFormat::kR32F;
   const bool wrap_u = s.wrap_u == Wrap::kClamp || s.wrap_u == Wrap::kRepeat;
   const bool wrap_v = s.wrap_v == Wrap::kClamp || s.wrap_v == Wrap::kRepeat;
-  return bytes && s.filter != Filter::kNearest && wrap_u && wrap_v && !t.empty();
+  return lanes && wrap_u && wrap_v && !t.empty();
 }
 
 // Wraps integer texel coordinates; `pow2` says every level size is a power of two.
@@ -50,10 +52,10 @@ inline I wrap_lanes(I i, I size, Wrap w, bool pow2) {
   return r;
 }
 
-// u * size - 0.5 with NaN read as 0, kept in int range (texture.cpp's scaled_coord).
+// u * size - offset with NaN read as 0, kept in int range (texture.cpp's scaled_coord).
 template <class F>
-inline F texel_coord(F u, F size) {
-  const F x = select(u == u, u, F(0.0f)) * size - F(0.5f);
+inline F texel_coord(F u, F size, F offset) {
+  const F x = select(u == u, u, F(0.0f)) * size - offset;
   return vmin(vmax(x, F(-67108864.0f)), F(67108864.0f));
 }
 
@@ -67,17 +69,17 @@ inline F texel_coord(F u, F size) {
 [[gnu::target("avx2")]] inline void gather_table_avx2(const float* lut, const v8i* idx, v8f* out) {
   *out = reinterpret_cast<v8f>(_mm256_i32gather_ps(lut, reinterpret_cast<__m256i>(*idx), 4));
 }
-// One texel word per lane, texel indices `idx` into the level bytes d (kChannels bytes a texel,
-// `bytes` in all, at least 4). A word is the texel's bytes in its low kChannels bytes and zeros
+// One texel word per lane, texel indices `idx` into the level bytes d (kBytes bytes a texel,
+// `bytes` in all, at least 4). A word is the texel's bytes in its low kBytes bytes and zeros
 // above, as bilinear8's lane-by-lane load makes it. Texels narrower than 4 bytes are read by a
 // 4-byte load that ends inside the level: at the texel's offset, or at bytes - 4 and shifted down
 // for the last texels.
-template <int kChannels>
+template <int kBytes>
 [[gnu::target("avx2")]] inline void gather_word_avx2(const uint8_t* d, int32_t bytes,
                                                       const v8i* idx, v8i* out) {
   const int* base = reinterpret_cast<const int*>(d);
-  const v8i off = *idx * kChannels;
-  if constexpr (kChannels == 4) {
+  const v8i off = *idx * kBytes;
+  if constexpr (kBytes == 4) {
     *out = reinterpret_cast<v8i>(_mm256_i32gather_epi32(base, reinterpret_cast<__m256i>(off), 1));
   } else {
     const v8i last = v8i{} + (bytes - 4);
@@ -86,7 +88,7 @@ template <int kChannels>
         reinterpret_cast<v8i>(_mm256_i32gather_epi32(base, reinterpret_cast<__m256i>(at), 1));
     const v8i shifted = reinterpret_cast<v8i>(_mm256_srlv_epi32(
         reinterpret_cast<__m256i>(word), reinterpret_cast<__m256i>((off - at) * 8)));
-    *out = shifted & ((1 << (8 * kChannels)) - 1);
+    *out = shifted & ((1 << (8 * kBytes)) - 1);
   }
 }
 #endif
@@ -119,18 +121,26 @@ inline bool can_gather(const MipLevel& level) {
 }
 
 // The texel words at `idx` of `level` by an AVX2 gather (can_gather said yes).
-template <int kChannels>
+template <int kBytes>
 inline I8 gather_word(const MipLevel&, int32_t) {
   return I8();  // float lanes never gather
 }
-template <int kChannels>
+template <int kBytes>
 [[gnu::always_inline]] inline I8 gather_word(const MipLevel& level, const I8& idx) {
   I8 out;
 #if RELIEF_HAVE_AVX2_PATH
-  gather_word_avx2<kChannels>(level.data.data(), static_cast<int32_t>(level.data.size()), &idx.v,
+  gather_word_avx2<kBytes>(level.data.data(), static_cast<int32_t>(level.data.size()), &idx.v,
                               &out.v);
 #endif
   return out;
+}
+
+// The formats of the lane-parallel path: bytes a texel and channels stored.
+constexpr int texel_bytes(TexFormat f) {
+  return f == TexFormat::kRG8 ? 2 : (f == TexFormat::kR8 ? 1 : 4);
+}
+constexpr int texel_channels(TexFormat f) {
+  return f == TexFormat::kRGBA8 ? 4 : (f == TexFormat::kRG8 ? 2 : 1);
 }
 
 // Channel c (0..3) of 8-bit texels packed little-endian in `word`, decoded like texture.cpp.
@@ -149,54 +159,79 @@ inline F decode8(int_t<F> word, int c, const float* lut, bool srgb) {
   }
 }
 
-// GL bilinear at per-lane mip level `lvl` of an 8-bit texture with kChannels channels.
-template <int kChannels, int kUsed, class F>
+// Channel c of a texel word of format kFmt: 8-bit channels through decode8, R32F's one float as
+// its bits (texture.cpp's Codec: missing channels read 0, alpha 1).
+template <TexFormat kFmt, class F>
+[[gnu::always_inline]] inline F decode_texel(int_t<F> word, int c, const float* lut, bool srgb) {
+  if constexpr (kFmt == TexFormat::kR32F)
+    return c == 0 ? float_of_bits(word) : F(c == 3 ? 1.0f : 0.0f);
+  else
+    return decode8<texel_channels(kFmt), F>(word, c, lut, srgb);
+}
+
+// The texel words at indices idx of per-lane level lvl, lane by lane (from d0 when every lane
+// reads one level, else from each lane's level).
+template <int kBytes, class F>
+[[gnu::always_inline]] inline int_t<F> load_words(const Texture& t, int_t<F> lvl,
+                                                  const uint8_t* d0, const int_t<F>& idx) {
+  using I = int_t<F>;
+  I r;
+  for (int k = 0; k < lane_width<F>; ++k) {
+    const uint8_t* d = d0 ? d0 : t.level(lane(lvl, k)).data.data();
+    uint32_t v = 0;
+    std::memcpy(&v, d + size_t(lane(idx, k)) * kBytes, kBytes);
+    set_lane(r, k, static_cast<int32_t>(v));
+  }
+  return r;
+}
+
+// Where the texel words at per-lane level lvl come from: gathered from level lvl0 (every lane
+// on it, can_gather), else load_words from d0 (every lane on one level) or lane by lane.
+template <class F> struct WordSource {
+  int lvl0;
+  bool gather;
+  const uint8_t* d0;
+};
+template <class F>
+[[gnu::always_inline]] inline WordSource<F> word_source(const Texture& t, int_t<F> lvl) {
+  using I = int_t<F>;
+  const int lvl0 = lane(lvl, 0);
+  const bool one_level = all(lvl == I(lvl0));  // the usual case: LOD is per quad
+  const MipLevel& level = t.level(one_level ? lvl0 : 0);
+  return {lvl0, one_level && can_gather<F>(level), one_level ? level.data.data() : nullptr};
+}
+
+// GL bilinear at per-lane mip level `lvl` of a texture of format kFmt.
+template <TexFormat kFmt, int kUsed, class F>
 [[gnu::always_inline]] inline V4<F> bilinear8(const Texture& t, const SamplerState& s, V2<F> uv,
                                               int_t<F> lvl, bool pow2) {
   using I = int_t<F>;
   const I w = vmax(I(t.width()) >> lvl, I(1));
   const I h = vmax(I(t.height()) >> lvl, I(1));
-  const F xf = texel_coord(uv.x, to_float(w));
-  const F yf = texel_coord(uv.y, to_float(h));
+  const F xf = texel_coord(uv.x, to_float(w), F(0.5f));
+  const F yf = texel_coord(uv.y, to_float(h), F(0.5f));
   const F fx = vfloor(xf), fy = vfloor(yf);
   const F a = xf - fx, b = yf - fy;
   const I ix = trunc_to_int(fx), iy = trunc_to_int(fy);
   const I x0 = wrap_lanes(ix, w, s.wrap_u, pow2), x1 = wrap_lanes(ix + I(1), w, s.wrap_u, pow2);
   const I y0 = wrap_lanes(iy, h, s.wrap_v, pow2), y1 = wrap_lanes(iy + I(1), h, s.wrap_v, pow2);
   const I r0 = y0 * w, r1 = y1 * w;
-  const I i00 = r0 + x0, i10 = r0 + x1, i01 = r1 + x0, i11 = r1 + x1;
+  const WordSource<F> src = word_source<F>(t, lvl);
+  constexpr int kB = texel_bytes(kFmt);
   I t00, t10, t01, t11;
-  auto load = [](const uint8_t* d, int32_t texel) {
-    uint32_t v = 0;
-    std::memcpy(&v, d + size_t(texel) * kChannels, kChannels);
-    return static_cast<int32_t>(v);
-  };
-  const int lvl0 = lane(lvl, 0);
-  const bool one_level = all(lvl == I(lvl0));  // the usual case: LOD is per quad
-  if (one_level && can_gather<F>(t.level(lvl0))) {
+  if (src.gather) {
     if constexpr (std::is_same_v<F, F8>) {
-      const MipLevel& level = t.level(lvl0);
-      t00 = gather_word<kChannels>(level, i00);
-      t10 = gather_word<kChannels>(level, i10);
-      t01 = gather_word<kChannels>(level, i01);
-      t11 = gather_word<kChannels>(level, i11);
-    }
-  } else if (one_level) {
-    const uint8_t* d = t.level(lvl0).data.data();
-    for (int k = 0; k < lane_width<F>; ++k) {
-      set_lane(t00, k, load(d, lane(i00, k)));
-      set_lane(t10, k, load(d, lane(i10, k)));
-      set_lane(t01, k, load(d, lane(i01, k)));
-      set_lane(t11, k, load(d, lane(i11, k)));
+      const MipLevel& level = t.level(src.lvl0);
+      t00 = gather_word<kB>(level, r0 + x0);
+      t10 = gather_word<kB>(level, r0 + x1);
+      t01 = gather_word<kB>(level, r1 + x0);
+      t11 = gather_word<kB>(level, r1 + x1);
     }
   } else {
-    for (int k = 0; k < lane_width<F>; ++k) {
-      const uint8_t* d = t.level(lane(lvl, k)).data.data();
-      set_lane(t00, k, load(d, lane(i00, k)));
-      set_lane(t10, k, load(d, lane(i10, k)));
-      set_lane(t01, k, load(d, lane(i01, k)));
-      set_lane(t11, k, load(d, lane(i11, k)));
-    }
+    t00 = load_words<kB, F>(t, lvl, src.d0, r0 + x0);
+    t10 = load_words<kB, F>(t, lvl, src.d0, r0 + x1);
+    t01 = load_words<kB, F>(t, lvl, src.d0, r1 + x0);
+    t11 = load_words<kB, F>(t, lvl, src.d0, r1 + x1);
   }
   const bool srgb = t.color_space() == ColorSpace::kSRGB;
   const float* lut = srgb ? srgb8_table() : nullptr;  // decode8 reads it for sRGB only
@@ -206,14 +241,37 @@ template <int kChannels, int kUsed, class F>
       out[c] = F(0.0f);
       continue;
     }
-    const F c00 = decode8<kChannels, F>(t00, c, lut, srgb);
-    const F c10 = decode8<kChannels, F>(t10, c, lut, srgb);
-    const F c01 = decode8<kChannels, F>(t01, c, lut, srgb);
-    const F c11 = decode8<kChannels, F>(t11, c, lut, srgb);
+    const F c00 = decode_texel<kFmt, F>(t00, c, lut, srgb);
+    const F c10 = decode_texel<kFmt, F>(t10, c, lut, srgb);
+    const F c01 = decode_texel<kFmt, F>(t01, c, lut, srgb);
+    const F c11 = decode_texel<kFmt, F>(t11, c, lut, srgb);
     const F top = c00 + a * (c10 - c00);
     const F bottom = c01 + a * (c11 - c01);
     out[c] = top + b * (bottom - top);
   }
+  return {out[0], out[1], out[2], out[3]};
+}
+
+// GL nearest at per-lane mip level `lvl` (texture.cpp's sample_nearest).
+template <TexFormat kFmt, int kUsed, class F>
+[[gnu::always_inline]] inline V4<F> nearest8(const Texture& t, const SamplerState& s, V2<F> uv,
+                                             int_t<F> lvl, bool pow2) {
+  using I = int_t<F>;
+  const I w = vmax(I(t.width()) >> lvl, I(1));
+  const I h = vmax(I(t.height()) >> lvl, I(1));
+  const I x = wrap_lanes(trunc_to_int(vfloor(texel_coord(uv.x, to_float(w), F(0.0f)))), w,
+                         s.wrap_u, pow2);
+  const I y = wrap_lanes(trunc_to_int(vfloor(texel_coord(uv.y, to_float(h), F(0.0f)))), h,
+                         s.wrap_v, pow2);
+  const WordSource<F> src = word_source<F>(t, lvl);
+  I word;
+  if constexpr (std::is_same_v<F, F8>)
+    if (src.gather) word = gather_word<texel_bytes(kFmt)>(t.level(src.lvl0), y * w + x);
+  if (!src.gather) word = load_words<texel_bytes(kFmt), F>(t, lvl, src.d0, y * w + x);
+  const bool srgb = t.color_space() == ColorSpace::kSRGB;
+  const float* lut = srgb ? srgb8_table() : nullptr;
+  F out[4];
+  for (int c = 0; c < 4; ++c) out[c] = c < kUsed ? decode_texel<kFmt, F>(word, c, lut, srgb) : F(0.0f);
   return {out[0], out[1], out[2], out[3]};
 }
 
@@ -224,20 +282,24 @@ inline V4<F> lerp4(V4<F> p, V4<F> q, F f) {
 }
 
 // textureLod on the lane-parallel path (texture.cpp's sample_lod_impl, lane by lane).
-template <int kChannels, int kUsed, class F>
-inline V4<F> sample_lod8(const Texture& t, const SamplerState& s, V2<F> uv, F lod) {
+template <TexFormat kFmt, int kUsed, class F>
+inline V4<F> sample_lod_texels(const Texture& t, const SamplerState& s, V2<F> uv, F lod) {
   using I = int_t<F>;
   const int q = t.levels() - 1;
   const bool pow2 = (t.width() & (t.width() - 1)) == 0 && (t.height() & (t.height() - 1)) == 0;
   lod = vmin(vmax(select(lod == lod, lod, F(0.0f)), F(-64.0f)), F(64.0f));
   const mask_t<F> base = lod <= F(0.0f);
-  if (q == 0) return bilinear8<kChannels, kUsed, F>(t, s, uv, I(0), pow2);
-  if (s.filter == Filter::kBilinear) {
-    // LINEAR_MIPMAP_NEAREST: the level nearest to lod.
+  const bool nearest = s.filter == Filter::kNearest;
+  if (q == 0)
+    return nearest ? nearest8<kFmt, kUsed, F>(t, s, uv, I(0), pow2)
+                   : bilinear8<kFmt, kUsed, F>(t, s, uv, I(0), pow2);
+  if (nearest || s.filter == Filter::kBilinear) {
+    // NEAREST_MIPMAP_NEAREST and LINEAR_MIPMAP_NEAREST: the level nearest to lod.
     const F fq = F(static_cast<float>(q));
     I lvl = vmin(trunc_to_int(-vfloor(-(lod + F(0.5f)))) - I(1), I(q));  // ceil
     lvl = select(lod <= F(0.5f), I(0), select(lod > fq + F(0.5f), I(q), lvl));
-    return bilinear8<kChannels, kUsed, F>(t, s, uv, lvl, pow2);
+    return nearest ? nearest8<kFmt, kUsed, F>(t, s, uv, lvl, pow2)
+                   : bilinear8<kFmt, kUsed, F>(t, s, uv, lvl, pow2);
   }
   // Trilinear: the two levels around lod; f = 0 where one level is exact.
   const F fq = F(static_cast<float>(q));
@@ -245,9 +307,9 @@ inline V4<F> sample_lod8(const Texture& t, const SamplerState& s, V2<F> uv, F lo
   const mask_t<F> top = lod >= fq;
   const I d1 = select(base, I(0), select(top, I(q), trunc_to_int(vmax(fl, F(0.0f)))));
   const F f = select(base | top, F(0.0f), lod - fl);
-  const V4<F> t1 = bilinear8<kChannels, kUsed, F>(t, s, uv, d1, pow2);
+  const V4<F> t1 = bilinear8<kFmt, kUsed, F>(t, s, uv, d1, pow2);
   if (none(f != F(0.0f))) return t1;
-  const V4<F> t2 = bilinear8<kChannels, kUsed, F>(t, s, uv, vmin(d1 + I(1), I(q)), pow2);
+  const V4<F> t2 = bilinear8<kFmt, kUsed, F>(t, s, uv, vmin(d1 + I(1), I(q)), pow2);
   return lerp4(t1, t2, f);
 }
 
@@ -255,11 +317,13 @@ template <int kUsed, class F>
 inline V4<F> sample_lod_lanes(const Texture& t, const SamplerState& s, V2<F> uv, F lod) {
   switch (t.format()) {
     case TexFormat::kR8:
-      return sample_lod8<1, kUsed, F>(t, s, uv, lod);
+      return sample_lod_texels<TexFormat::kR8, kUsed, F>(t, s, uv, lod);
     case TexFormat::kRG8:
-      return sample_lod8<2, kUsed, F>(t, s, uv, lod);
+      return sample_lod_texels<TexFormat::kRG8, kUsed, F>(t, s, uv, lod);
+    case TexFormat::kR32F:
+      return sample_lod_texels<TexFormat::kR32F, kUsed, F>(t, s, uv, lod);
     default:
-      return sample_lod8<4, kUsed, F>(t, s, uv, lod);
+      return sample_lod_texels<TexFormat::kRGBA8, kUsed, F>(t, s, uv, lod);
   }
 }
 

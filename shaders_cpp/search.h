@@ -30,6 +30,17 @@
 
 namespace relief {
 
+// The first channel of `t` at uv with the lanes' LODs lod[0..lanes): the lane-parallel sampler,
+// through its out-of-line entry for F8 (bit-identical to sample_r_lod per lane).
+template <class F>
+inline F r_lod_lanes(const Texture& t, const SamplerState& s, const float* lod, V2<F> uv) {
+  const F l = load_lanes(lod, F());
+  if constexpr (std::is_same_v<F, F8>)
+    return texture_r_lod_dispatch(t, s, uv, l);
+  else
+    return texture_r_lod(t, s, uv, l);
+}
+
 // Depth from the first channel of a texture at a fixed LOD per lane (computed once per quad).
 struct TextureDepth {
   const Texture* texture = nullptr;
@@ -39,13 +50,7 @@ struct TextureDepth {
     return sample_r_lod(*texture, *sampler, glm::vec2(u, v), lod[lane]);
   }
   // All lanes through the lane-parallel sampler (bit-identical to operator() per lane).
-  template <class F> F lanes(V2<F> uv) const {
-    const F l = load_lanes(lod, F());
-    if constexpr (std::is_same_v<F, F8>)
-      return texture_r_lod_dispatch(*texture, *sampler, uv, l);
-    else
-      return texture_r_lod(*texture, *sampler, uv, l);
-  }
+  template <class F> F lanes(V2<F> uv) const { return r_lod_lanes(*texture, *sampler, lod, uv); }
 };
 
 template <class F>

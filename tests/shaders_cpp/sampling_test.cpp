@@ -1,5 +1,5 @@
 // The lane-parallel sampler of shaders_cpp/sampling.h against the scalar one of
-// rasterizer/texture.cpp: textureLod is bit-identical to sample_lod for every 8-bit format,
+// rasterizer/texture.cpp: textureLod is bit-identical to sample_lod for every format (8-bit and R32F),
 // filter and wrap it serves; textureGrad stays within the LOD rounding of sample_grad; float and
 // F8 instantiations agree bit for bit.
 #include <gtest/gtest.h>
@@ -10,6 +10,7 @@
 
 #include "float_bits.h"
 #include "shaders_cpp/sampling.h"
+#include "shaders_cpp/sampling_simd.h"
 
 namespace relief {
 namespace {
@@ -34,11 +35,12 @@ TEST(Sampling, TextureLodMatchesSampleLodBitForBit) {
   std::mt19937 rng(7);
   std::uniform_real_distribution<float> uvd(-3.0f, 3.0f), lodd(-1.5f, 11.0f);
   int checked = 0;
-  for (TexFormat f : {TexFormat::kR8, TexFormat::kRG8, TexFormat::kRGBA8})
+  for (TexFormat f : {TexFormat::kR8, TexFormat::kRG8, TexFormat::kRGBA8, TexFormat::kR32F})
     for (ColorSpace cs : {ColorSpace::kLinear, ColorSpace::kSRGB})
       for (auto [w, h] : {std::pair{64, 32}, std::pair{37, 20}, std::pair{1, 1}}) {
         const Texture t = random_texture(f, w, h, cs, static_cast<uint32_t>(w * 31 + h));
-        for (Filter filter : {Filter::kBilinear, Filter::kTrilinear, Filter::kAnisotropic})
+        for (Filter filter : {Filter::kNearest, Filter::kBilinear, Filter::kTrilinear,
+                              Filter::kAnisotropic})
           for (Wrap wu : {Wrap::kRepeat, Wrap::kClamp})
             for (Wrap wv : {Wrap::kRepeat, Wrap::kClamp}) {
               SamplerState s;
@@ -55,6 +57,8 @@ TEST(Sampling, TextureLodMatchesSampleLodBitForBit) {
                 }
                 const V4<F8> r8 = texture_lod(t, s, V2<F8>(u, v), lod);
                 const F8 red = texture_r_lod(t, s, V2<F8>(u, v), lod);
+                // the out-of-line entry: its AVX2 clone (gathers) where the CPU has AVX2
+                const F8 red_entry = texture_r_lod_dispatch(t, s, V2<F8>(u, v), lod);
                 for (int i = 0; i < 8; ++i) {
                   const glm::vec4 ref = sample_lod(t, s, {u[i], v[i]}, lod[i]);
                   const V4<float> r1 = texture_lod(t, s, V2<float>(u[i], v[i]), lod[i]);
@@ -67,6 +71,7 @@ TEST(Sampling, TextureLodMatchesSampleLodBitForBit) {
                   }
                   ASSERT_EQ(float_bits(red[i]),
                             float_bits(sample_r_lod(t, s, {u[i], v[i]}, lod[i])));
+                  ASSERT_EQ(float_bits(red_entry[i]), float_bits(red[i])) << format_name(f);
                   ++checked;
                 }
               }
@@ -90,6 +95,45 @@ TEST(Sampling, TextureGradIsSampleGradUpToLodRounding) {
                       std::fabs(got.z - ref.z), std::fabs(got.w - ref.w)});
   }
   EXPECT_LT(worst, 1e-5f);
+}
+
+// The out-of-line entry (shaders_cpp/sampling_simd.h: an AVX2 clone with gathers where the CPU
+// has AVX2) gives the bits of the inline F8 sampler, for every 8-bit format and filter, sRGB and
+// linear, with lanes on one mip level and on different ones.
+TEST(Sampling, GradEntryMatchesInlineTextureGrad) {
+  std::mt19937 rng(13);
+  std::uniform_real_distribution<float> uvd(-2.0f, 2.0f), dd(-0.2f, 0.2f);
+  int checked = 0;
+  for (TexFormat f : {TexFormat::kR8, TexFormat::kRG8, TexFormat::kRGBA8, TexFormat::kR32F})
+    for (ColorSpace cs : {ColorSpace::kLinear, ColorSpace::kSRGB}) {
+      const Texture t = random_texture(f, 64, 64, cs, 17);
+      for (Filter filter : {Filter::kNearest, Filter::kBilinear, Filter::kTrilinear}) {
+        SamplerState s;
+        s.filter = filter;
+        for (int n = 0; n < 64; ++n) {
+          V2<F8> uv, dx, dy;
+          const bool one_lod = n % 2 == 0;
+          for (int i = 0; i < 8; ++i) {
+            uv.x.set(i, uvd(rng));
+            uv.y.set(i, uvd(rng));
+            dx.x.set(i, one_lod ? 0.03f : dd(rng));
+            dx.y.set(i, one_lod ? 0.0f : dd(rng));
+            dy.x.set(i, one_lod ? 0.0f : dd(rng));
+            dy.y.set(i, one_lod ? 0.03f : dd(rng));
+          }
+          const V4<F8> a = texture_grad(t, s, uv, dx, dy);
+          const V4<F8> b = texture_grad_dispatch(t, s, uv, dx, dy);
+          for (int i = 0; i < 8; ++i) {
+            ASSERT_EQ(float_bits(a.x[i]), float_bits(b.x[i])) << format_name(f);
+            ASSERT_EQ(float_bits(a.y[i]), float_bits(b.y[i])) << format_name(f);
+            ASSERT_EQ(float_bits(a.z[i]), float_bits(b.z[i])) << format_name(f);
+            ASSERT_EQ(float_bits(a.w[i]), float_bits(b.w[i])) << format_name(f);
+            ++checked;
+          }
+        }
+      }
+    }
+  EXPECT_EQ(checked, 4 * 2 * 3 * 64 * 8);
 }
 
 }  // namespace
