@@ -1,14 +1,15 @@
 // Texture sampling over lanes: the GLSL texture(), textureLod() and textureGrad() of kernels.
 //
-// 8-bit textures (R8, RG8, RGBA8) and R32F with nearest, bilinear, trilinear or (without derivatives)
-// anisotropic filtering and repeat or clamp wrapping take a path written once over the lane type
-// F: level choice, texel coordinates, weights and lerps run on all lanes at once. Texel loads and
-// sRGB table lookups are AVX2 gathers when the CPU runs the AVX2 path (simd_avx2()) and lane by
-// lane otherwise; both read the same bytes, so the results are the same bits. It follows
-// rasterizer/texture.cpp operation for operation (GL 4.5, section 8.14), so textureLod equals
-// sample_lod bit for bit; textureGrad takes its LOD
-// from vlog2 (lanes.h), within 1e-7 of std::log2. Other textures and filters call the scalar
-// sampler per lane. float and F8 agree bit for bit either way.
+// 8-bit textures (R8, RG8, RGBA8) and R32F with nearest, bilinear, trilinear or (without
+// derivatives) anisotropic filtering and repeat or clamp wrapping take a path written once over
+// the lane type F: level choice, texel coordinates, weights and lerps run on all lanes at once.
+// Texel loads and sRGB table lookups are AVX2 gathers when the CPU runs the AVX2 path
+// (simd_avx2()) and lane by lane otherwise; both read the same bytes, so the results are the same
+// bits. It follows rasterizer/texture.cpp operation for operation (GL 4.5, section 8.14), so
+// textureLod equals sample_lod bit for bit; textureGrad takes its LOD from vlog2 (lanes.h), within
+// 1e-7 of std::log2. Other textures and filters call the scalar sampler per lane. float and F8
+// agree bit for bit either way. Kernels call the F8 sampler through the out-of-line entries of
+// shaders_cpp/sampling_simd.h.
 #pragma once
 
 #include <climits>
@@ -201,13 +202,21 @@ template <class F>
   return {lvl0, one_level && can_gather<F>(level), one_level ? level.data.data() : nullptr};
 }
 
+// Each lane's level size in texels (at least 1).
+template <class I> struct LevelSize {
+  I w, h;
+};
+template <class I> inline LevelSize<I> level_size(const Texture& t, I lvl) {
+  return {vmax(I(t.width()) >> lvl, I(1)), vmax(I(t.height()) >> lvl, I(1))};
+}
+
 // GL bilinear at per-lane mip level `lvl` of a texture of format kFmt.
 template <TexFormat kFmt, int kUsed, class F>
 [[gnu::always_inline]] inline V4<F> bilinear8(const Texture& t, const SamplerState& s, V2<F> uv,
                                               int_t<F> lvl, bool pow2) {
   using I = int_t<F>;
-  const I w = vmax(I(t.width()) >> lvl, I(1));
-  const I h = vmax(I(t.height()) >> lvl, I(1));
+  const LevelSize<I> size = level_size(t, lvl);
+  const I &w = size.w, &h = size.h;
   const F xf = texel_coord(uv.x, to_float(w), F(0.5f));
   const F yf = texel_coord(uv.y, to_float(h), F(0.5f));
   const F fx = vfloor(xf), fy = vfloor(yf);
@@ -257,21 +266,21 @@ template <TexFormat kFmt, int kUsed, class F>
 [[gnu::always_inline]] inline V4<F> nearest8(const Texture& t, const SamplerState& s, V2<F> uv,
                                              int_t<F> lvl, bool pow2) {
   using I = int_t<F>;
-  const I w = vmax(I(t.width()) >> lvl, I(1));
-  const I h = vmax(I(t.height()) >> lvl, I(1));
-  const I x = wrap_lanes(trunc_to_int(vfloor(texel_coord(uv.x, to_float(w), F(0.0f)))), w,
+  const LevelSize<I> n = level_size(t, lvl);
+  const I x = wrap_lanes(trunc_to_int(vfloor(texel_coord(uv.x, to_float(n.w), F(0.0f)))), n.w,
                          s.wrap_u, pow2);
-  const I y = wrap_lanes(trunc_to_int(vfloor(texel_coord(uv.y, to_float(h), F(0.0f)))), h,
+  const I y = wrap_lanes(trunc_to_int(vfloor(texel_coord(uv.y, to_float(n.h), F(0.0f)))), n.h,
                          s.wrap_v, pow2);
   const WordSource<F> src = word_source<F>(t, lvl);
   I word;
   if constexpr (std::is_same_v<F, F8>)
-    if (src.gather) word = gather_word<texel_bytes(kFmt)>(t.level(src.lvl0), y * w + x);
-  if (!src.gather) word = load_words<texel_bytes(kFmt), F>(t, lvl, src.d0, y * w + x);
+    if (src.gather) word = gather_word<texel_bytes(kFmt)>(t.level(src.lvl0), y * n.w + x);
+  if (!src.gather) word = load_words<texel_bytes(kFmt), F>(t, lvl, src.d0, y * n.w + x);
   const bool srgb = t.color_space() == ColorSpace::kSRGB;
   const float* lut = srgb ? srgb8_table() : nullptr;
   F out[4];
-  for (int c = 0; c < 4; ++c) out[c] = c < kUsed ? decode_texel<kFmt, F>(word, c, lut, srgb) : F(0.0f);
+  for (int c = 0; c < 4; ++c)
+    out[c] = c < kUsed ? decode_texel<kFmt, F>(word, c, lut, srgb) : F(0.0f);
   return {out[0], out[1], out[2], out[3]};
 }
 

@@ -1,7 +1,8 @@
 // The lane-parallel sampler of shaders_cpp/sampling.h against the scalar one of
-// rasterizer/texture.cpp: textureLod is bit-identical to sample_lod for every format (8-bit and R32F),
-// filter and wrap it serves; textureGrad stays within the LOD rounding of sample_grad; float and
-// F8 instantiations agree bit for bit.
+// rasterizer/texture.cpp: textureLod is bit-identical to sample_lod for every format (8-bit and
+// R32F), filter and wrap it serves; textureGrad stays within the LOD rounding of sample_grad;
+// float and F8 instantiations agree bit for bit; the out-of-line entries (AVX2 clones) agree
+// with the inline sampler.
 #include <gtest/gtest.h>
 
 #include <cmath>
