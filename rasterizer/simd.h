@@ -1,9 +1,12 @@
 // SIMD code paths chosen at run time, so one binary runs everywhere (issue 9).
 //
 // The build targets baseline x86-64 (SSE2). Hot entry points (the rasterizer's tile traversal,
-// plugins/shading.h's packet loop) are compiled twice from one body: once for the baseline and
+// every plugin's 8-lane packet loop in plugins/shading.h, the sampler entries of
+// shaders_cpp/sampling_simd.cpp) are compiled twice from one body: once for the baseline and
 // once under __attribute__((target("avx2"))) with everything below them inlined
-// (RELIEF_AVX2_ENTRY). simd_level() picks one per call. Both paths do the same IEEE operations in
+// (RELIEF_AVX2_ENTRY). A baseline function called out of line from an AVX2 clone must not take
+// or return a 32-byte vector by value (the two targets pass it differently): vectors cross
+// through pointers. simd_level() picks one per call. Both paths do the same IEEE operations in
 // the same order and the build sets -ffp-contract=off (no FMA contraction), so they produce
 // bit-identical images (tested in tests/rasterizer/simd_test.cpp).
 //
