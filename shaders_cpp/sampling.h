@@ -70,26 +70,25 @@ inline F texel_coord(F u, F size, F offset) {
 [[gnu::target("avx2")]] inline void gather_table_avx2(const float* lut, const v8i* idx, v8f* out) {
   *out = reinterpret_cast<v8f>(_mm256_i32gather_ps(lut, reinterpret_cast<__m256i>(*idx), 4));
 }
-// One texel word per lane, texel indices `idx` into the level bytes d (kBytes bytes a texel,
-// `bytes` in all, at least 4). A word is the texel's bytes in its low kBytes bytes and zeros
-// above, as bilinear8's lane-by-lane load makes it. Texels narrower than 4 bytes are read by a
-// 4-byte load that ends inside the level: at the texel's offset, or at bytes - 4 and shifted down
-// for the last texels.
-template <int kBytes>
-[[gnu::target("avx2")]] inline void gather_word_avx2(const uint8_t* d, int32_t bytes,
-                                                      const v8i* idx, v8i* out) {
+// kSpan bytes (1 to 4) per lane from the level bytes d (`bytes` in all, at least 4) at the byte
+// offsets `off`, in the low kSpan bytes of each lane's word with zeros above, as a lane-by-lane
+// memcpy into a zeroed word makes it. Fewer than 4 bytes are read by a 4-byte load that ends
+// inside the level: at the offset, or at bytes - 4 and shifted down near the end. A 4-byte span
+// must lie inside the level.
+template <int kSpan>
+[[gnu::target("avx2")]] inline void gather_bytes_avx2(const uint8_t* d, int32_t bytes,
+                                                       const v8i* off, v8i* out) {
   const int* base = reinterpret_cast<const int*>(d);
-  const v8i off = *idx * kBytes;
-  if constexpr (kBytes == 4) {
-    *out = reinterpret_cast<v8i>(_mm256_i32gather_epi32(base, reinterpret_cast<__m256i>(off), 1));
+  if constexpr (kSpan == 4) {
+    *out = reinterpret_cast<v8i>(_mm256_i32gather_epi32(base, reinterpret_cast<__m256i>(*off), 1));
   } else {
     const v8i last = v8i{} + (bytes - 4);
-    const v8i at = off < last ? off : last;
+    const v8i at = *off < last ? *off : last;
     const v8i word =
         reinterpret_cast<v8i>(_mm256_i32gather_epi32(base, reinterpret_cast<__m256i>(at), 1));
     const v8i shifted = reinterpret_cast<v8i>(_mm256_srlv_epi32(
-        reinterpret_cast<__m256i>(word), reinterpret_cast<__m256i>((off - at) * 8)));
-    *out = shifted & ((1 << (8 * kBytes)) - 1);
+        reinterpret_cast<__m256i>(word), reinterpret_cast<__m256i>((*off - at) * 8)));
+    *out = shifted & ((1 << (8 * kSpan)) - 1);
   }
 }
 #endif
@@ -121,17 +120,21 @@ inline bool can_gather(const MipLevel& level) {
 #endif
 }
 
-// The texel words at `idx` of `level` by an AVX2 gather (can_gather said yes).
-template <int kBytes>
+// The texel words at `idx` of `level` by an AVX2 gather (can_gather said yes); with kTexels = 2,
+// texels idx and idx + 1 in one word (idx + 1 must lie in the level), the first in the low
+// kBytes bytes.
+template <int kBytes, int kTexels = 1>
 inline I8 gather_word(const MipLevel&, int32_t) {
   return I8();  // float lanes never gather
 }
-template <int kBytes>
+template <int kBytes, int kTexels = 1>
 [[gnu::always_inline]] inline I8 gather_word(const MipLevel& level, const I8& idx) {
+  static_assert(kBytes * kTexels <= 4);
   I8 out;
 #if RELIEF_HAVE_AVX2_PATH
-  gather_word_avx2<kBytes>(level.data.data(), static_cast<int32_t>(level.data.size()), &idx.v,
-                              &out.v);
+  const I8 off = idx * I8(kBytes);
+  gather_bytes_avx2<kBytes * kTexels>(level.data.data(), static_cast<int32_t>(level.data.size()),
+                                      &off.v, &out.v);
 #endif
   return out;
 }
@@ -231,10 +234,24 @@ template <TexFormat kFmt, int kUsed, class F>
   if (src.gather) {
     if constexpr (std::is_same_v<F, F8>) {
       const MipLevel& level = t.level(src.lvl0);
-      t00 = gather_word<kB>(level, r0 + x0);
-      t10 = gather_word<kB>(level, r0 + x1);
-      t01 = gather_word<kB>(level, r1 + x0);
-      t11 = gather_word<kB>(level, r1 + x1);
+      // No lane on the wrap seam: each row's two texels in one word (R8, RG8).
+      const bool pairs = kB <= 2 && all(x1 == x0 + I(1));
+      if (pairs) {
+        if constexpr (kB <= 2) {
+          constexpr int32_t kMask = (1 << (8 * kB)) - 1;
+          const I top = gather_word<kB, 2>(level, r0 + x0);
+          const I bottom = gather_word<kB, 2>(level, r1 + x0);
+          t00 = top & I(kMask);
+          t10 = (top >> (8 * kB)) & I(kMask);
+          t01 = bottom & I(kMask);
+          t11 = (bottom >> (8 * kB)) & I(kMask);
+        }
+      } else {
+        t00 = gather_word<kB>(level, r0 + x0);
+        t10 = gather_word<kB>(level, r0 + x1);
+        t01 = gather_word<kB>(level, r1 + x0);
+        t11 = gather_word<kB>(level, r1 + x1);
+      }
     }
   } else {
     t00 = load_words<kB, F>(t, lvl, src.d0, r0 + x0);
