@@ -124,10 +124,6 @@ inline bool can_gather(const MipLevel& level) {
 // texels idx and idx + 1 in one word (idx + 1 must lie in the level), the first in the low
 // kBytes bytes.
 template <int kBytes, int kTexels = 1>
-inline I8 gather_word(const MipLevel&, int32_t) {
-  return I8();  // float lanes never gather
-}
-template <int kBytes, int kTexels = 1>
 [[gnu::always_inline]] inline I8 gather_word(const MipLevel& level, const I8& idx) {
   static_assert(kBytes * kTexels <= 4);
   I8 out;
@@ -191,13 +187,13 @@ template <int kBytes, class F>
 
 // Where the texel words at per-lane level lvl come from: gathered from level lvl0 (every lane
 // on it, can_gather), else load_words from d0 (every lane on one level) or lane by lane.
-template <class F> struct WordSource {
+struct WordSource {
   int lvl0;
   bool gather;
   const uint8_t* d0;
 };
 template <class F>
-[[gnu::always_inline]] inline WordSource<F> word_source(const Texture& t, int_t<F> lvl) {
+[[gnu::always_inline]] inline WordSource word_source(const Texture& t, int_t<F> lvl) {
   using I = int_t<F>;
   const int lvl0 = lane(lvl, 0);
   const bool one_level = all(lvl == I(lvl0));  // the usual case: LOD is per quad
@@ -228,7 +224,7 @@ template <TexFormat kFmt, int kUsed, class F>
   const I x0 = wrap_lanes(ix, w, s.wrap_u, pow2), x1 = wrap_lanes(ix + I(1), w, s.wrap_u, pow2);
   const I y0 = wrap_lanes(iy, h, s.wrap_v, pow2), y1 = wrap_lanes(iy + I(1), h, s.wrap_v, pow2);
   const I r0 = y0 * w, r1 = y1 * w;
-  const WordSource<F> src = word_source<F>(t, lvl);
+  const WordSource src = word_source<F>(t, lvl);
   constexpr int kB = texel_bytes(kFmt);
   I t00, t10, t01, t11;
   if (src.gather) {
@@ -288,7 +284,7 @@ template <TexFormat kFmt, int kUsed, class F>
                          s.wrap_u, pow2);
   const I y = wrap_lanes(trunc_to_int(vfloor(texel_coord(uv.y, to_float(n.h), F(0.0f)))), n.h,
                          s.wrap_v, pow2);
-  const WordSource<F> src = word_source<F>(t, lvl);
+  const WordSource src = word_source<F>(t, lvl);
   I word;
   if constexpr (std::is_same_v<F, F8>)
     if (src.gather) word = gather_word<texel_bytes(kFmt)>(t.level(src.lvl0), y * n.w + x);
