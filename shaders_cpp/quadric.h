@@ -27,7 +27,8 @@ enum class QuadricDistance { kApproximate, kAccurate };
 template <class F>
 struct QuadricRay {
   V3<F> dir;         // unit, texture space, dir.z > 0
-  V3<F> up;          // U: unit, perpendicular to dir, in the plane of dir and the normal, U.z <= 0
+  V3<F> up;          // U (tangent space: unit, perpendicular to the ray, in the plane of the
+                     // ray and the normal, U.z <= 0) in texture units per depth unit
   F alpha, beta;     // equation 8
   F t_max;           // section 3.3
   mask_t<F> bottom;  // t_max is where the ray reaches depth 1 (else where it returns to 0)
@@ -100,10 +101,18 @@ inline QuadricRay<F> make_quadric_ray(V3<F> V, V2<F> q, V2<F> tile, F sz) {
   r.world_per_t = F(1.0f) / len;
   r.alpha = q.x * sx * sx / s_z;
   r.beta = q.y * sy * sy / s_z;
-  // U = the up direction (0, 0, -1) minus its dir part, normalised; any horizontal unit vector
-  // when dir is vertical
+  // U (equation 4) is perpendicular to the view ray in tangent space, where the paper defines
+  // it: the up direction (0, 0, -1) minus its part along the ray, normalised (any horizontal
+  // unit vector when the ray is vertical). Stored in texture units per depth unit of s,
+  // (Ux sz / sx, Uy sz / sy, Uz), so that equation 6 evaluated in texture space with it gives
+  // the tangent-space distance divided by sz. (U taken perpendicular to the texture-space ray
+  // instead measures a different, scale-dependent distance: with sz much smaller than sx it runs
+  // almost horizontally and reached the quadric's wall long before the relief's depth, which
+  // discarded most of a sphere as misses.)
+  const V3<F> vo = normalize(V3<F>(V.x, V.y, vmax(-V.z, F(kMinRayCos))));
   const V3<F> up0(F(0.0f), F(0.0f), F(-1.0f));
-  r.up = normalize_or(up0 - r.dir * dot(up0, r.dir), V3<F>(F(1.0f), F(0.0f), F(0.0f)));
+  const V3<F> uo = normalize_or(up0 - vo * dot(up0, vo), V3<F>(F(1.0f), F(0.0f), F(0.0f)));
+  r.up = V3<F>(uo.x * (s_z / sx), uo.y * (s_z / sy), uo.z);
   // section 3.3: the smallest t > 0 with D = 1 (bottom) or D = 0 (return to the surface)
   const V3<F>& d = r.dir;
   const F k = r.alpha * d.x * d.x + r.beta * d.y * d.y;

@@ -13,7 +13,7 @@ const int kQuadricAccurate = 1;
 
 struct QuadricRay {
   vec3 dir;          // unit, texture space, dir.z > 0
-  vec3 up;           // U: unit, perpendicular to dir, in the plane of dir and the normal
+  vec3 up;           // U: perpendicular to the ray in tangent space, texture units per depth unit
   float alpha, beta; // equation 8
   float t_max;       // section 3.3
   bool bottom;       // t_max is where the ray reaches depth 1 (else where it returns to 0)
@@ -73,9 +73,13 @@ QuadricRay make_quadric_ray(int kind, vec3 V, vec2 q, vec2 tile, float sz) {
   r.world_per_t = 1.0 / len;
   r.alpha = q.x * sx * sx / s_z;
   r.beta = q.y * sy * sy / s_z;
+  // U perpendicular to the ray in tangent space, in texture units per depth unit (quadric.h)
+  precise vec3 vo0 = vec3(V.x, V.y, max(-V.z, kMinRayCos));
+  precise vec3 vo = vo0 * (1.0 / sqrt(vo0.x * vo0.x + vo0.y * vo0.y + vo0.z * vo0.z));
   vec3 up0 = vec3(0.0, 0.0, -1.0);
-  precise float du = up0.x * r.dir.x + up0.y * r.dir.y + up0.z * r.dir.z;
-  r.up = normalize_or(up0 - r.dir * du, vec3(1.0, 0.0, 0.0));
+  precise float du = up0.x * vo.x + up0.y * vo.y + up0.z * vo.z;
+  vec3 uo = normalize_or(up0 - vo * du, vec3(1.0, 0.0, 0.0));
+  r.up = vec3(uo.x * (s_z / sx), uo.y * (s_z / sy), uo.z);
   vec3 d = r.dir;
   precise float k = r.alpha * d.x * d.x + r.beta * d.y * d.y;
   const float none = 3.0e38;

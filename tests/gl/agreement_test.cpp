@@ -132,21 +132,25 @@ TEST(GlAgreement, BuiltinScenesMatchCpu) {
     // Each twin forced on every material, then (null) the scene's own techniques: scenes that
     // mix techniques, or whose materials cannot all take one (no depth map), run as authored.
     // A plugin with a `search` choice runs once per search (relief_quadric: linear,
-    // relaxed_cone).
+    // relaxed_cone), and once more per further `distance` choice with its default search
+    // (relief_quadric: distance=accurate). A run's setting is "name=value" or empty.
     std::vector<std::pair<const PluginDescriptor*, std::string>> runs;
     for (const PluginDescriptor* p : PluginRegistry::global().all()) {
       const int search = param_index(*p, "search");
-      if (search < 0) {
-        runs.emplace_back(p, "");
-        continue;
+      const int distance = param_index(*p, "distance");
+      if (search < 0) runs.emplace_back(p, "");
+      if (search >= 0)
+        for (const std::string& choice : split_choices(p->params[search].choices))
+          runs.emplace_back(p, "search=" + choice);
+      if (distance >= 0) {
+        const std::vector<std::string> choices = split_choices(p->params[distance].choices);
+        for (size_t c = 1; c < choices.size(); ++c) runs.emplace_back(p, "distance=" + choices[c]);
       }
-      for (const std::string& choice : split_choices(p->params[search].choices))
-        runs.emplace_back(p, choice);
     }
     runs.emplace_back(nullptr, "");
     for (const auto& run : runs) {
       const PluginDescriptor* plugin = run.first;
-      const std::string& search = run.second;  // (no structured binding: clang 14 and lambdas)
+      const std::string& setting = run.second;  // (no structured binding: clang 14 and lambdas)
       if (plugin && !gl_has_twin(plugin->name)) continue;
       const bool has_effects =
           !plugin || (plugin->supported_effects & (kEffectSelfShadow | kEffectDepthWrite)) != 0;
@@ -155,7 +159,7 @@ TEST(GlAgreement, BuiltinScenesMatchCpu) {
         const Scene* scene = &scene_v;
         const std::string label =
             info.name + " / " + (plugin ? plugin->name : "(its own techniques)") +
-            (search.empty() ? std::string() : " search=" + search) +
+            (setting.empty() ? std::string() : " " + setting) +
             (variant < 0
                  ? std::string()
                  : std::string(" (forced") + (variant & 1 ? " self_shadow" : "") +
@@ -165,7 +169,8 @@ TEST(GlAgreement, BuiltinScenesMatchCpu) {
         opt.width = kWidth;
         opt.height = kHeight;
         opt.technique = plugin ? plugin->name : "";
-        if (!search.empty()) opt.params["search"] = search;
+        if (!setting.empty())
+          opt.params[setting.substr(0, setting.find('='))] = setting.substr(setting.find('=') + 1);
         opt.aovs = aov_bit(Aov::kHitUv) | aov_bit(Aov::kHitDepth) | aov_bit(Aov::kSteps);
         opt.count_work = true;
         Result<Plan> plan = make_plan(*scene, opt);

@@ -20,20 +20,16 @@ V3<float> view_at(float deg, float az) {
   return {std::sin(th) * std::cos(az), std::sin(th) * std::sin(az), -std::cos(th)};
 }
 
-// The root s of equation 5 nearest 0 in the direction that equation 6 takes (first sign change
-// of f(s) from s = 0 towards +s when P is inside, -s when above), in double; NaN when none lies
-// within |s| < 50.
-double reference_distance(const QuadricRay<float>& r, double t) {
-  const double px = r.dir.x * t, py = r.dir.y * t, pz = r.dir.z * t;
-  auto f = [&](double s) {
-    const double x = px + r.up.x * s, y = py + r.up.y * s, z = pz + r.up.z * s;
-    return r.alpha * x * x + r.beta * y * y - z;
-  };
+// The root s of f nearest 0 in the direction that equation 6 takes (first sign change of f(s)
+// from s = 0 towards +s when f(0) < 0, the point inside, towards -s when above), in double; NaN
+// when none lies within |s| < limit.
+template <class Fn>
+double first_root(const Fn& f, double limit) {
   const double f0 = f(0.0);
   if (f0 == 0.0) return 0.0;
   const double dir = f0 < 0.0 ? 1.0 : -1.0;
-  const double h = 1e-4;
-  for (double s = 0.0; std::fabs(s) < 50.0; s += dir * h) {
+  const double h = limit * 2e-6;
+  for (double s = 0.0; std::fabs(s) < limit; s += dir * h) {
     if ((f(s + dir * h) < 0.0) != (f0 < 0.0)) {
       double lo = s, hi = s + dir * h;
       for (int i = 0; i < 60; ++i) {
@@ -44,6 +40,17 @@ double reference_distance(const QuadricRay<float>& r, double t) {
     }
   }
   return NAN;
+}
+
+// Equation 5 along the ray's own U in texture space (its root is equation 6's s).
+double reference_distance(const QuadricRay<float>& r, double t) {
+  const double px = r.dir.x * t, py = r.dir.y * t, pz = r.dir.z * t;
+  return first_root(
+      [&](double s) {
+        const double x = px + r.up.x * s, y = py + r.up.y * s, z = pz + r.up.z * s;
+        return r.alpha * x * x + r.beta * y * y - z;
+      },
+      50.0);
 }
 
 TEST(Quadric, AccurateDistanceMatchesNumericalRoot) {
@@ -65,6 +72,48 @@ TEST(Quadric, AccurateDistanceMatchesNumericalRoot) {
     const double ref = reference_distance(r, t);
     if (!std::isfinite(ref) || std::fabs(ref) > 2.0) continue;
     EXPECT_NEAR(quadric_distance_accurate(r, t), ref, 1e-4) << i;
+    ++compared;
+  }
+  EXPECT_GT(compared, 1000);
+}
+
+// Equation 6 is defined in tangent space (section 3.1): U perpendicular to the view ray there,
+// s in object units. Section 3.4 moves the computation to texture space; with tiles and depth
+// scales far from 1 and from each other (sz much smaller than sx, as on every built-in curved
+// scene) the texture-space distance must still be the tangent-space one divided by sz. The
+// reference here is built in tangent space only: the point P = V t_o, the unit U, the quadric
+// z = a x^2 + b y^2 in object units, its root along U found numerically.
+TEST(Quadric, AccurateDistanceIsTheTangentSpaceDistanceInDepthUnits) {
+  std::mt19937 rng(9);
+  std::uniform_real_distribution<float> ab(-1.0f, 1.0f), ang(5.0f, 85.0f), az(0.0f, 2.0f * kPi),
+      frac(0.0f, 1.0f), tile(0.2f, 3.0f), depth(0.01f, 0.3f);
+  int compared = 0;
+  for (int i = 0; i < 2000; ++i) {
+    const V3<float> V = view_at(ang(rng), az(rng));
+    const float a = ab(rng), b = ab(rng), sx = tile(rng), sy = tile(rng), sz = depth(rng);
+    const QuadricRay<float> r =
+        make_quadric_ray<QuadricDistance::kAccurate>(V, V2<float>(a, b), V2<float>(sx, sy), sz);
+    const float t = frac(rng) * r.t_max;
+    // tangent space, depth convention (z into the surface)
+    const double to = double(t) * r.world_per_t;
+    const double vx = V.x, vy = V.y, vz = -V.z;
+    const double px = vx * to, py = vy * to, pz = vz * to;
+    // U = (0, 0, -1) minus its part along the ray, normalised
+    double ux = vz * vx, uy = vz * vy, uz = -1.0 + vz * vz;
+    const double ul = std::sqrt(ux * ux + uy * uy + uz * uz);
+    ux /= ul, uy /= ul, uz /= ul;
+    const double A = a * ux * ux + b * uy * uy;
+    const double B = 2.0 * (a * px * ux + b * py * uy) - uz;
+    const double C = a * px * px + b * py * py - pz;
+    if (B * B - 4.0 * A * C < 1e-3 * sz * sz) continue;  // equation 7's domain, or a double root
+    const double ref = first_root(
+        [&](double s) {
+          const double x = px + ux * s, y = py + uy * s, z = pz + uz * s;
+          return a * x * x + b * y * y - z;
+        },
+        50.0 * sz);
+    if (!std::isfinite(ref) || std::fabs(ref / sz) > 2.0) continue;
+    EXPECT_NEAR(quadric_distance_accurate(r, t), ref / sz, 1e-4) << i;
     ++compared;
   }
   EXPECT_GT(compared, 1000);
