@@ -15,6 +15,34 @@
 
 namespace relief {
 
+namespace detail {
+// A scalar copied to all eight lanes: lane 0 set, then a shuffle of lane 0 everywhere. GCC 12
+// builds `v8i{s, s, s, s, s, s, s, s}` of a run-time s inside a target("avx2") clone as vmovd,
+// three vpinsrd and a vinserti128 (vinsertps chains for floats); this form is one vpbroadcastd
+// (vbroadcastss) there and pshufd in baseline code, and a constant s still folds to a constant.
+// Always inline: a broadcast left out of line is a call per use (session 8 found I8(int) as a
+// .constprop clone called from the sampler clones).
+// (Clang: __builtin_shufflevector, the same operation.)
+__attribute__((always_inline)) inline v8i broadcast8(int32_t s) {
+  v8i t{};
+  t[0] = s;
+#if defined(__clang__)
+  return __builtin_shufflevector(t, t, 0, 0, 0, 0, 0, 0, 0, 0);
+#else
+  return __builtin_shuffle(t, v8i{});
+#endif
+}
+__attribute__((always_inline)) inline v8f broadcast8(float s) {
+  v8f t{};
+  t[0] = s;
+#if defined(__clang__)
+  return __builtin_shufflevector(t, t, 0, 0, 0, 0, 0, 0, 0, 0);
+#else
+  return __builtin_shuffle(t, v8i{});
+#endif
+}
+}  // namespace detail
+
 struct M8 {
   v8i v;
   friend M8 operator&(M8 a, M8 b) { return {a.v & b.v}; }
@@ -30,7 +58,7 @@ struct M8 {
 struct I8 {
   v8i v;
   I8() : v{} {}
-  I8(int32_t s) : v{s, s, s, s, s, s, s, s} {}  // NOLINT: broadcast
+  __attribute__((always_inline)) I8(int32_t s) : v(detail::broadcast8(s)) {}  // NOLINT: broadcast
   explicit I8(v8i x) : v(x) {}
   int32_t operator[](int i) const { return v[i]; }
   friend I8 operator+(I8 a, I8 b) { return I8(a.v + b.v); }
@@ -50,7 +78,7 @@ struct I8 {
 struct F8 {
   v8f v;
   F8() : v{} {}
-  F8(float s) : v{s, s, s, s, s, s, s, s} {}  // NOLINT: broadcast like GLSL
+  __attribute__((always_inline)) F8(float s) : v(detail::broadcast8(s)) {}  // NOLINT: like GLSL
   explicit F8(v8f x) : v(x) {}
   static F8 load(const float* p) {
     F8 r;
