@@ -22,18 +22,10 @@ namespace detail {
 // (vbroadcastss) there and pshufd in baseline code, and a constant s still folds to a constant.
 // Always inline: a broadcast left out of line is a call per use (session 8 found I8(int) as a
 // .constprop clone called from the sampler clones).
-// (Clang: __builtin_shufflevector, the same operation.)
-__attribute__((always_inline)) inline v8i broadcast8(int32_t s) {
-  v8i t{};
-  t[0] = s;
-#if defined(__clang__)
-  return __builtin_shufflevector(t, t, 0, 0, 0, 0, 0, 0, 0, 0);
-#else
-  return __builtin_shuffle(t, v8i{});
-#endif
-}
-__attribute__((always_inline)) inline v8f broadcast8(float s) {
-  v8f t{};
+// (Clang: __builtin_shufflevector, the same operation.) V is v8i or v8f, S its lane type.
+template <class V, class S>
+__attribute__((always_inline)) inline V broadcast8(S s) {
+  V t{};
   t[0] = s;
 #if defined(__clang__)
   return __builtin_shufflevector(t, t, 0, 0, 0, 0, 0, 0, 0, 0);
@@ -58,7 +50,7 @@ struct M8 {
 struct I8 {
   v8i v;
   I8() : v{} {}
-  __attribute__((always_inline)) I8(int32_t s) : v(detail::broadcast8(s)) {}  // NOLINT: broadcast
+  __attribute__((always_inline)) I8(int32_t s) : v(detail::broadcast8<v8i>(s)) {}  // NOLINT: broadcast
   explicit I8(v8i x) : v(x) {}
   int32_t operator[](int i) const { return v[i]; }
   friend I8 operator+(I8 a, I8 b) { return I8(a.v + b.v); }
@@ -78,7 +70,7 @@ struct I8 {
 struct F8 {
   v8f v;
   F8() : v{} {}
-  __attribute__((always_inline)) F8(float s) : v(detail::broadcast8(s)) {}  // NOLINT: like GLSL
+  __attribute__((always_inline)) F8(float s) : v(detail::broadcast8<v8f>(s)) {}  // NOLINT: like GLSL
   explicit F8(v8f x) : v(x) {}
   static F8 load(const float* p) {
     F8 r;
