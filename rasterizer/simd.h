@@ -7,9 +7,10 @@
 // (RELIEF_AVX2_ENTRY). A baseline function called out of line from an AVX2 clone must not take
 // or return a 32-byte vector by value (the two targets pass it differently): vectors cross
 // through pointers. The test simd.Avx2ClonesPassNoVectorByValue (scripts/check-avx2-calls.sh)
-// checks every call out of the clones in the built binary. simd_level() picks one per call. Both paths do the same IEEE operations in
-// the same order and the build sets -ffp-contract=off (no FMA contraction), so they produce
-// bit-identical images (tested in tests/rasterizer/simd_test.cpp).
+// checks every call out of the clones in the built binary. simd_level() picks one per call.
+// Both paths do the same IEEE operations in the same order and the build sets -ffp-contract=off
+// (no FMA contraction), so they produce bit-identical images (tested in
+// tests/rasterizer/simd_test.cpp).
 //
 // The environment variable RELIEF_SIMD=baseline (or sse2) forces the baseline path;
 // RELIEF_SIMD=avx2 asks for AVX2 and falls back to baseline where the CPU lacks it.

@@ -50,7 +50,8 @@ struct M8 {
 struct I8 {
   v8i v;
   I8() : v{} {}
-  __attribute__((always_inline)) I8(int32_t s) : v(detail::broadcast8<v8i>(s)) {}  // NOLINT: broadcast
+  // NOLINTNEXTLINE: implicit broadcast
+  __attribute__((always_inline)) I8(int32_t s) : v(detail::broadcast8<v8i>(s)) {}
   explicit I8(v8i x) : v(x) {}
   int32_t operator[](int i) const { return v[i]; }
   friend I8 operator+(I8 a, I8 b) { return I8(a.v + b.v); }
@@ -70,7 +71,8 @@ struct I8 {
 struct F8 {
   v8f v;
   F8() : v{} {}
-  __attribute__((always_inline)) F8(float s) : v(detail::broadcast8<v8f>(s)) {}  // NOLINT: like GLSL
+  // NOLINTNEXTLINE: implicit broadcast, like GLSL
+  __attribute__((always_inline)) F8(float s) : v(detail::broadcast8<v8f>(s)) {}
   explicit F8(v8f x) : v(x) {}
   static F8 load(const float* p) {
     F8 r;

@@ -82,7 +82,7 @@ template <int kSpan>
   if constexpr (kSpan == 4) {
     *out = reinterpret_cast<v8i>(_mm256_i32gather_epi32(base, reinterpret_cast<__m256i>(*off), 1));
   } else {
-    const v8i last = v8i{} + (bytes - 4);
+    const v8i last = broadcast8<v8i>(bytes - 4);
     const v8i at = *off < last ? *off : last;
     const v8i word =
         reinterpret_cast<v8i>(_mm256_i32gather_epi32(base, reinterpret_cast<__m256i>(at), 1));
@@ -169,13 +169,14 @@ template <TexFormat kFmt, class F>
     return decode8<texel_channels(kFmt), F>(word, c, lut, srgb);
 }
 
-// The texel words at indices idx of per-lane level lvl, lane by lane (from d0 when every lane
-// reads one level, else from each lane's level).
+// The texel words at indices idx of per-lane level lvl, lane by lane (from `one` when every
+// lane reads that one level, else from each lane's level).
 template <int kBytes, class F>
 [[gnu::always_inline]] inline int_t<F> load_words(const Texture& t, int_t<F> lvl,
-                                                  const uint8_t* d0, const int_t<F>& idx) {
+                                                  const MipLevel* one, const int_t<F>& idx) {
   using I = int_t<F>;
   I r;
+  const uint8_t* d0 = one ? one->data.data() : nullptr;
   for (int k = 0; k < lane_width<F>; ++k) {
     const uint8_t* d = d0 ? d0 : t.level(lane(lvl, k)).data.data();
     uint32_t v = 0;
@@ -185,20 +186,20 @@ template <int kBytes, class F>
   return r;
 }
 
-// Where the texel words at per-lane level lvl come from: gathered from level lvl0 (every lane
-// on it, can_gather), else load_words from d0 (every lane on one level) or lane by lane.
+// Where the texel words at per-lane level lvl come from: `level` when every lane reads one level
+// (the usual case: LOD is per quad), else null; gathered from it when can_gather says so, else
+// load_words.
 struct WordSource {
-  int lvl0;
+  const MipLevel* level;
   bool gather;
-  const uint8_t* d0;
 };
 template <class F>
 [[gnu::always_inline]] inline WordSource word_source(const Texture& t, int_t<F> lvl) {
   using I = int_t<F>;
   const int lvl0 = lane(lvl, 0);
-  const bool one_level = all(lvl == I(lvl0));  // the usual case: LOD is per quad
-  const MipLevel& level = t.level(one_level ? lvl0 : 0);
-  return {lvl0, one_level && can_gather<F>(level), one_level ? level.data.data() : nullptr};
+  if (!all(lvl == I(lvl0))) return {nullptr, false};
+  const MipLevel& level = t.level(lvl0);
+  return {&level, can_gather<F>(level)};
 }
 
 // Each lane's level size in texels (at least 1).
@@ -229,7 +230,7 @@ template <TexFormat kFmt, int kUsed, class F>
   I t00, t10, t01, t11;
   if (src.gather) {
     if constexpr (std::is_same_v<F, F8>) {
-      const MipLevel& level = t.level(src.lvl0);
+      const MipLevel& level = *src.level;
       // No lane on the wrap seam: each row's two texels in one word (R8, RG8).
       const bool pairs = kB <= 2 && all(x1 == x0 + I(1));
       if (pairs) {
@@ -250,10 +251,10 @@ template <TexFormat kFmt, int kUsed, class F>
       }
     }
   } else {
-    t00 = load_words<kB, F>(t, lvl, src.d0, r0 + x0);
-    t10 = load_words<kB, F>(t, lvl, src.d0, r0 + x1);
-    t01 = load_words<kB, F>(t, lvl, src.d0, r1 + x0);
-    t11 = load_words<kB, F>(t, lvl, src.d0, r1 + x1);
+    t00 = load_words<kB, F>(t, lvl, src.level, r0 + x0);
+    t10 = load_words<kB, F>(t, lvl, src.level, r0 + x1);
+    t01 = load_words<kB, F>(t, lvl, src.level, r1 + x0);
+    t11 = load_words<kB, F>(t, lvl, src.level, r1 + x1);
   }
   const bool srgb = t.color_space() == ColorSpace::kSRGB;
   const float* lut = srgb ? srgb8_table() : nullptr;  // decode8 reads it for sRGB only
@@ -287,8 +288,8 @@ template <TexFormat kFmt, int kUsed, class F>
   const WordSource src = word_source<F>(t, lvl);
   I word;
   if constexpr (std::is_same_v<F, F8>)
-    if (src.gather) word = gather_word<texel_bytes(kFmt)>(t.level(src.lvl0), y * n.w + x);
-  if (!src.gather) word = load_words<texel_bytes(kFmt), F>(t, lvl, src.d0, y * n.w + x);
+    if (src.gather) word = gather_word<texel_bytes(kFmt)>(*src.level, y * n.w + x);
+  if (!src.gather) word = load_words<texel_bytes(kFmt), F>(t, lvl, src.level, y * n.w + x);
   const bool srgb = t.color_space() == ColorSpace::kSRGB;
   const float* lut = srgb ? srgb8_table() : nullptr;
   F out[4];
