@@ -74,7 +74,9 @@ inline F texel_coord(F u, F size, F offset) {
 // offsets `off`, in the low kSpan bytes of each lane's word with zeros above, as a lane-by-lane
 // memcpy into a zeroed word makes it. Fewer than 4 bytes are read by a 4-byte load that ends
 // inside the level: at the offset, or at bytes - 4 and shifted down near the end. A 4-byte span
-// must lie inside the level.
+// must lie inside the level. The broadcast is an intrinsic: clang refuses (as an error, at code
+// generation, which -fsyntax-only does not reach) a call from this AVX2 function to a baseline
+// function returning a vector, always_inline or not, so lanes.h's broadcast8 is not used here.
 template <int kSpan>
 [[gnu::target("avx2")]] inline void gather_bytes_avx2(const uint8_t* d, int32_t bytes,
                                                        const v8i* off, v8i* out) {
@@ -82,7 +84,7 @@ template <int kSpan>
   if constexpr (kSpan == 4) {
     *out = reinterpret_cast<v8i>(_mm256_i32gather_epi32(base, reinterpret_cast<__m256i>(*off), 1));
   } else {
-    const v8i last = broadcast8<v8i>(bytes - 4);
+    const v8i last = reinterpret_cast<v8i>(_mm256_set1_epi32(bytes - 4));
     const v8i at = *off < last ? *off : last;
     const v8i word =
         reinterpret_cast<v8i>(_mm256_i32gather_epi32(base, reinterpret_cast<__m256i>(at), 1));
