@@ -10,7 +10,10 @@
 # signature mentions a lane type at all (GCC rewrites those clones' parameters; by reference
 # may become by value). Session 7 found such a call in review: a refactor left decode8<1, F8>
 # out of line as a baseline .constprop clone taking an I8 by value, and the render crashed
-# (docs/performance.md). Clang classifies every call by the translation unit's flags, so its
+# (docs/performance.md). Return types are checked twice: by name where the demangled name shows
+# one, and at every call site by the first use of the return register after the call (a clone
+# reading %ymm0 there takes a vector the baseline callee returned in memory); session 9 found a
+# lambda returning an F8 that the name check could not see. Clang classifies every call by the translation unit's flags, so its
 # sanitizer builds call by-value helpers safely and are not checked.
 #
 # Usage: scripts/check-avx2-calls.sh BINARY   (prints the calls it checked; exit 1 on a bad one)
@@ -28,17 +31,48 @@ use warnings;
 my $lane = qr/\b(?:F8|I8|M8)\b|__vector\(8\)|__m256/;
 # a type that is one 32-byte vector
 my $vector = qr/^(?:(?:relief::)?(?:F8|I8|M8)|relief::LaneTraits<[^>]*>::Mask|.*__vector\(8\)|__m256\w*)$/;
-my ($in_clone, %calls, $clones) = (0);
+my ($in_clone, %calls, %ymm_return, $clones, $after) = (0);
+# The operands of an AT&T instruction, split at the commas outside parentheses.
+sub operands {
+  my ($text) = @_;
+  my @ops;
+  my ($cur, $d) = ("", 0);
+  for my $c (split //, $text) {
+    if ($c eq "," && $d == 0) { push @ops, $cur; $cur = ""; next; }
+    ++$d if $c eq "(";
+    --$d if $c eq ")";
+    $cur .= $c;
+  }
+  push @ops, $cur if $cur ne "";
+  return @ops;
+}
 while (my $line = <STDIN>) {
   if ($line =~ /^[0-9a-f]+ <(.*)>:$/) {
     $in_clone = ($1 =~ /_avx2/) ? 1 : 0;
     $clones += $in_clone;
+    $after = undef;
     next;
   }
-  next unless $in_clone && $line =~ /\bcall\s+[0-9a-f]+ <(.*)>\s*$/;
-  my $callee = $1;
-  $callee =~ s/\+0x[0-9a-f]+$//;
-  $calls{$callee}++;
+  next unless $in_clone && $line =~ /^\s*[0-9a-f]+:\s+(\S+)\s*(.*?)\s*$/;
+  my ($op, $args) = ($1, $2);
+  if ($op =~ /^call/ && $args =~ /^[0-9a-f]+ <(.*)>$/) {
+    my $callee = $1;
+    $callee =~ s/\+0x[0-9a-f]+$//;
+    $calls{$callee}++;
+    $after = $callee =~ /_avx2/ ? undef : $callee;
+    next;
+  }
+  # After a call to baseline code, the first use of the return register: reading %ymm0 means
+  # the clone takes a 32-byte vector returned in a register, which baseline code returns in
+  # memory. This catches what the names cannot show: non-template functions and lambdas do not
+  # carry their return type in the mangled name.
+  next unless defined $after;
+  if ($op =~ /^(?:j|ret|call)/) { $after = undef; next; }
+  my @ops = operands($args);
+  next unless grep { /%[xy]mm0\b/ } @ops;
+  my @sources = @ops > 1 ? @ops[0 .. $#ops - 1] : ($op =~ /^vmov|^vpext|^vextract/ ? () : @ops);
+  $ymm_return{$after}++ if grep { /%ymm0\b/ } @sources;
+  $after = undef;
 }
 
 # Splits "RET NAME<...>(PARAMS) const [clone .x]" into the return type (templates only), the
@@ -88,9 +122,12 @@ for my $callee (sort keys %calls) {
       $t =~ s/\s+const$//;
       push @why, "takes $t by value" if $t =~ $vector;
     }
-    push @why, "is a GCC $1 clone of a function with lane types (its parameters are rewritten)"
-      if $suffix =~ /(\.isra|\.part)/ && $callee =~ $lane;
+    my ($kind) = $suffix =~ /(\.isra|\.part)/;
+    push @why, "is a GCC $kind clone of a function with lane types (its parameters are rewritten)"
+      if $kind && $callee =~ $lane;
   }
+  push @why, "returns a 32-byte vector: the caller reads %ymm0 after the call"
+    if $ymm_return{$callee};
   printf "%6d  %s%s\n", $calls{$callee}, $callee, @why ? "\n        BAD: " . join("; ", @why) : "";
   $bad += @why ? 1 : 0;
 }

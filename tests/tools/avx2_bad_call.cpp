@@ -1,7 +1,9 @@
-// A program with the call that scripts/check-avx2-calls.sh exists to catch: an AVX2 clone
+// A program with the calls that scripts/check-avx2-calls.sh exists to catch: an AVX2 clone
 // calling a baseline function that takes and returns a 32-byte vector by value (GCC passes it
-// in a ymm register on one side and in memory on the other). Never run; the check reads its
-// disassembly and must report "BAD" (tests/CMakeLists.txt, simd.Avx2CallCheckCatchesAVectorByValue).
+// in a ymm register on one side and in memory on the other), and one returning a vector from a
+// non-template function, whose mangled name does not show the return type. Never run; the check
+// reads its disassembly and must report both (tests/CMakeLists.txt,
+// simd.Avx2CallCheckCatchesAVectorByValue).
 #include <cstdio>
 #include <cstring>
 
@@ -16,9 +18,15 @@ __attribute__((noinline)) F8 twice(F8 a) {
   return a;
 }
 
-__attribute__((target("avx2"), noinline)) void twice_avx2(const float* in, float* out) {
+__attribute__((noinline)) F8 load(const float* in) {
   F8 a;
   std::memcpy(&a, in, sizeof a);
+  return a;
+}
+
+__attribute__((target("avx2"), noinline)) void twice_avx2(const float* in, float* out) {
+  F8 a = load(in);
+  a.v = a.v * a.v;
   const F8 r = twice(a);
   std::memcpy(out, &r, sizeof r);
 }
