@@ -169,6 +169,55 @@ void BM_Kernel_Exact(benchmark::State& state) {
   run(state, [&](V2<F8> uv, V2<F8> ds, F8) { return exact_search(field, uv, ds, kAll); });
 }
 
+// The depth read alone: kReads 8-lane reads through one TextureDepth at independent uvs, as a
+// search step makes them (no search): from baseline code and from an AVX2 loop.
+constexpr int kReads = 4096;
+template <class Loop> void run_reads(benchmark::State& state, Loop&& loop) {
+  Fixture& f = fixture();
+  f.aim(45.0);
+  const TextureDepth d = depth_source();
+  for (auto _ : state) {
+    float sink = loop(d, f.u.data(), f.v.data());
+    benchmark::DoNotOptimize(sink);
+  }
+  state.SetItemsProcessed(static_cast<int64_t>(state.iterations()) * kReads * 8);
+}
+float reads_base(const TextureDepth& d, const float* u, const float* v) {
+  F8 acc(0.0f);
+  for (int i = 0; i < kReads; i += 8) acc = acc + d.lanes(V2<F8>(F8::load(u + i), F8::load(v + i)));
+  float r[8];
+  acc.store(r);
+  return r[0] + r[7];
+}
+__attribute__((target("avx2"), flatten, noinline)) float reads_avx2(const TextureDepth& d,
+                                                                   const float* u, const float* v) {
+  F8 acc(0.0f);
+  for (int i = 0; i < kReads; i += 8) acc = acc + d.lanes(V2<F8>(F8::load(u + i), F8::load(v + i)));
+  float r[8];
+  acc.store(r);
+  return r[0] + r[7];
+}
+// The same reads through the whole sampler (level choice per read), as before RLodPlan.
+__attribute__((target("avx2"), flatten, noinline)) float reads_unplanned_avx2(
+    const TextureDepth& d, const float* u, const float* v) {
+  F8 acc(0.0f);
+  const F8 lod = F8::load(d.lod);
+  for (int i = 0; i < kReads; i += 8)
+    acc = acc + texture_r_lod_dispatch(*d.texture, *d.sampler,
+                                       V2<F8>(F8::load(u + i), F8::load(v + i)), lod);
+  float r[8];
+  acc.store(r);
+  return r[0] + r[7];
+}
+void BM_Kernel_DepthReadBase(benchmark::State& state) { run_reads(state, reads_base); }
+void BM_Kernel_DepthReadUnplannedAvx2(benchmark::State& state) {
+  run_reads(state, reads_unplanned_avx2);
+}
+BENCHMARK(BM_Kernel_DepthReadUnplannedAvx2);
+void BM_Kernel_DepthReadAvx2(benchmark::State& state) { run_reads(state, reads_avx2); }
+BENCHMARK(BM_Kernel_DepthReadBase);
+BENCHMARK(BM_Kernel_DepthReadAvx2);
+
 #define RELIEF_KERNEL_BENCH(name) BENCHMARK(name)->Arg(45)->Arg(80)->Unit(benchmark::kMicrosecond)
 RELIEF_KERNEL_BENCH(BM_Kernel_Parallax);
 RELIEF_KERNEL_BENCH(BM_Kernel_SteepParallax);

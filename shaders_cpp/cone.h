@@ -38,10 +38,13 @@ struct NearestTextureDepth {
   const Texture* texture = nullptr;
   SamplerState sampler;
   float lod[8] = {};
+  mutable RLodPlan plan;  // as TextureDepth's
   float operator()(int lane, float u, float v) const {
     return sample_r_lod(*texture, sampler, glm::vec2(u, v), lod[lane]);
   }
-  template <class F> F lanes(V2<F> uv) const { return r_lod_lanes(*texture, sampler, lod, uv); }
+  template <class F> F lanes(V2<F> uv) const {
+    return r_lod_lanes(*texture, sampler, lod, uv, plan);
+  }
 };
 
 // Sampler state for a cone map: nearest texel (a ratio belongs to one texel's apex; blending two
@@ -57,11 +60,14 @@ struct TextureCone {
   const Texture* texture = nullptr;
   SamplerState sampler;  // cone_sampler(...)
   float lod[8] = {};
+  mutable RLodPlan plan;  // as TextureDepth's
   float operator()(int lane, float u, float v) const {
     return sample_lod(*texture, sampler, glm::vec2(u, v), lod[lane]).x;
   }
   // sample_r_lod is sample_lod's first channel for every format.
-  template <class F> F lanes(V2<F> uv) const { return r_lod_lanes(*texture, sampler, lod, uv); }
+  template <class F> F lanes(V2<F> uv) const {
+    return r_lod_lanes(*texture, sampler, lod, uv, plan);
+  }
 };
 
 // Quad-directional cones: channel cu (0: +u, 1: -u) and cv (2: +v, 3: -v) per lane, set by aim().

@@ -53,10 +53,47 @@ inline I wrap_lanes(I i, I size, Wrap w, bool pow2) {
   return r;
 }
 
+#if RELIEF_HAVE_AVX2_PATH
+// AVX2 forms of lanes.h's vfloor and clamp, for the AVX2 path only (simd_avx2()); vectors by
+// pointer, as for the gathers below. roundps rounds down exactly as std::floor does for every
+// value but NaN (quieted, where vfloor passes the bits), which texel_coord never gives it; max_ps
+// and min_ps with the bound first are vmax and vmin (lanes.h) including NaN: a < b ? b : a.
+[[gnu::target("avx2")]] inline void floor_avx2(const v8f* x, v8f* out) {
+  *out = reinterpret_cast<v8f>(_mm256_floor_ps(reinterpret_cast<__m256>(*x)));
+}
+[[gnu::target("avx2")]] inline void clamp_avx2(const v8f* x, float lo, float hi, v8f* out) {
+  const __m256 m = _mm256_max_ps(_mm256_set1_ps(lo), reinterpret_cast<__m256>(*x));
+  *out = reinterpret_cast<v8f>(_mm256_min_ps(_mm256_set1_ps(hi), m));
+}
+#endif
+
+// vfloor of a texel coordinate (finite, from texel_coord), one instruction on the AVX2 path.
+template <class F> [[gnu::always_inline]] inline F floor_coord(const F& x) {
+#if RELIEF_HAVE_AVX2_PATH
+  if constexpr (std::is_same_v<F, F8>) {
+    if (simd_avx2()) {
+      F8 r;
+      floor_avx2(&x.v, &r.v);
+      return r;
+    }
+  }
+#endif
+  return vfloor(x);
+}
+
 // u * size - offset with NaN read as 0, kept in int range (texture.cpp's scaled_coord).
 template <class F>
 inline F texel_coord(F u, F size, F offset) {
   const F x = select(u == u, u, F(0.0f)) * size - offset;
+#if RELIEF_HAVE_AVX2_PATH
+  if constexpr (std::is_same_v<F, F8>) {
+    if (simd_avx2()) {
+      F8 r;
+      clamp_avx2(&x.v, -67108864.0f, 67108864.0f, &r.v);
+      return r;
+    }
+  }
+#endif
   return vmin(vmax(x, F(-67108864.0f)), F(67108864.0f));
 }
 
@@ -109,7 +146,7 @@ template <int kSpan>
   return r;
 }
 
-// Whether bilinear8 gathers its texel words from `level`: the AVX2 path, 8 lanes, a level of at
+// Whether bilinear_at gathers its texel words from `level`: the AVX2 path, 8 lanes, a level of at
 // least 4 bytes and small enough for 32-bit offsets; elsewhere it loads lane by lane.
 template <class F>
 inline bool can_gather(const MipLevel& level) {
@@ -212,22 +249,33 @@ template <class I> inline LevelSize<I> level_size(const Texture& t, I lvl) {
   return {vmax(I(t.width()) >> lvl, I(1)), vmax(I(t.height()) >> lvl, I(1))};
 }
 
-// GL bilinear at per-lane mip level `lvl` of a texture of format kFmt.
+// Where a read at per-lane mip level `lvl` finds its texels: the level's sizes and word source.
+// A prepared read (RLodPlan, sampling_simd.h) computes it once for many reads.
+template <class I> struct LevelAccess {
+  I lvl;
+  LevelSize<I> size;
+  WordSource src;
+};
+template <class F> inline LevelAccess<int_t<F>> level_access(const Texture& t, int_t<F> lvl) {
+  return {lvl, level_size(t, lvl), word_source<F>(t, lvl)};
+}
+
+// GL bilinear at the mip level(s) `at` of a texture of format kFmt.
 template <TexFormat kFmt, int kUsed, class F>
-[[gnu::always_inline]] inline V4<F> bilinear8(const Texture& t, const SamplerState& s, V2<F> uv,
-                                              int_t<F> lvl, bool pow2) {
+[[gnu::always_inline]] inline V4<F> bilinear_at(const Texture& t, const SamplerState& s, V2<F> uv,
+                                                const LevelAccess<int_t<F>>& at, bool pow2) {
   using I = int_t<F>;
-  const LevelSize<I> size = level_size(t, lvl);
-  const I &w = size.w, &h = size.h;
+  const I& lvl = at.lvl;
+  const I &w = at.size.w, &h = at.size.h;
   const F xf = texel_coord(uv.x, to_float(w), F(0.5f));
   const F yf = texel_coord(uv.y, to_float(h), F(0.5f));
-  const F fx = vfloor(xf), fy = vfloor(yf);
+  const F fx = floor_coord(xf), fy = floor_coord(yf);
   const F a = xf - fx, b = yf - fy;
   const I ix = trunc_to_int(fx), iy = trunc_to_int(fy);
   const I x0 = wrap_lanes(ix, w, s.wrap_u, pow2), x1 = wrap_lanes(ix + I(1), w, s.wrap_u, pow2);
   const I y0 = wrap_lanes(iy, h, s.wrap_v, pow2), y1 = wrap_lanes(iy + I(1), h, s.wrap_v, pow2);
   const I r0 = y0 * w, r1 = y1 * w;
-  const WordSource src = word_source<F>(t, lvl);
+  const WordSource& src = at.src;
   constexpr int kB = texel_bytes(kFmt);
   I t00, t10, t01, t11;
   if (src.gather) {
@@ -260,12 +308,8 @@ template <TexFormat kFmt, int kUsed, class F>
   }
   const bool srgb = t.color_space() == ColorSpace::kSRGB;
   const float* lut = srgb ? srgb8_table() : nullptr;  // decode8 reads it for sRGB only
-  F out[4];
-  for (int c = 0; c < 4; ++c) {
-    if (c >= kUsed) {
-      out[c] = F(0.0f);
-      continue;
-    }
+  F out[4] = {F(0.0f), F(0.0f), F(0.0f), F(0.0f)};
+  for (int c = 0; c < kUsed; ++c) {
     const F c00 = decode_texel<kFmt, F>(t00, c, lut, srgb);
     const F c10 = decode_texel<kFmt, F>(t10, c, lut, srgb);
     const F c01 = decode_texel<kFmt, F>(t01, c, lut, srgb);
@@ -277,26 +321,26 @@ template <TexFormat kFmt, int kUsed, class F>
   return {out[0], out[1], out[2], out[3]};
 }
 
-// GL nearest at per-lane mip level `lvl` (texture.cpp's sample_nearest).
+// GL nearest at the mip level(s) `at` (texture.cpp's sample_nearest).
 template <TexFormat kFmt, int kUsed, class F>
-[[gnu::always_inline]] inline V4<F> nearest8(const Texture& t, const SamplerState& s, V2<F> uv,
-                                             int_t<F> lvl, bool pow2) {
+[[gnu::always_inline]] inline V4<F> nearest_at(const Texture& t, const SamplerState& s, V2<F> uv,
+                                               const LevelAccess<int_t<F>>& at, bool pow2) {
   using I = int_t<F>;
-  const LevelSize<I> n = level_size(t, lvl);
-  const I x = wrap_lanes(trunc_to_int(vfloor(texel_coord(uv.x, to_float(n.w), F(0.0f)))), n.w,
-                         s.wrap_u, pow2);
-  const I y = wrap_lanes(trunc_to_int(vfloor(texel_coord(uv.y, to_float(n.h), F(0.0f)))), n.h,
-                         s.wrap_v, pow2);
-  const WordSource src = word_source<F>(t, lvl);
+  const I& lvl = at.lvl;
+  const LevelSize<I>& n = at.size;
+  const F xf = floor_coord(texel_coord(uv.x, to_float(n.w), F(0.0f)));
+  const F yf = floor_coord(texel_coord(uv.y, to_float(n.h), F(0.0f)));
+  const I x = wrap_lanes(trunc_to_int(xf), n.w, s.wrap_u, pow2);
+  const I y = wrap_lanes(trunc_to_int(yf), n.h, s.wrap_v, pow2);
+  const WordSource& src = at.src;
   I word;
   if constexpr (std::is_same_v<F, F8>)
     if (src.gather) word = gather_word<texel_bytes(kFmt)>(*src.level, y * n.w + x);
   if (!src.gather) word = load_words<texel_bytes(kFmt), F>(t, lvl, src.level, y * n.w + x);
   const bool srgb = t.color_space() == ColorSpace::kSRGB;
   const float* lut = srgb ? srgb8_table() : nullptr;
-  F out[4];
-  for (int c = 0; c < 4; ++c)
-    out[c] = c < kUsed ? decode_texel<kFmt, F>(word, c, lut, srgb) : F(0.0f);
+  F out[4] = {F(0.0f), F(0.0f), F(0.0f), F(0.0f)};
+  for (int c = 0; c < kUsed; ++c) out[c] = decode_texel<kFmt, F>(word, c, lut, srgb);
   return {out[0], out[1], out[2], out[3]};
 }
 
@@ -306,36 +350,54 @@ inline V4<F> lerp4(V4<F> p, V4<F> q, F f) {
           p.w + f * (q.w - p.w)};
 }
 
-// textureLod on the lane-parallel path (texture.cpp's sample_lod_impl, lane by lane).
-template <TexFormat kFmt, int kUsed, class F>
-inline V4<F> sample_lod_texels(const Texture& t, const SamplerState& s, V2<F> uv, F lod) {
+// The mip levels textureLod reads at lod (texture.cpp's sample_lod_impl, lane by lane): `lo`,
+// and for trilinear (or anisotropic without derivatives) `hi` weighted by f, f = 0 where one
+// level is exact. Nearest and bilinear filters read the level nearest to lod (f = 0).
+template <class F> struct LodLevels {
+  int_t<F> lo, hi;
+  F f;
+};
+template <class F> inline LodLevels<F> lod_levels(int levels, Filter filter, F lod) {
   using I = int_t<F>;
-  const int q = t.levels() - 1;
-  const bool pow2 = (t.width() & (t.width() - 1)) == 0 && (t.height() & (t.height() - 1)) == 0;
+  const int q = levels - 1;
   lod = vmin(vmax(select(lod == lod, lod, F(0.0f)), F(-64.0f)), F(64.0f));
-  const mask_t<F> base = lod <= F(0.0f);
-  const bool nearest = s.filter == Filter::kNearest;
-  if (q == 0)
-    return nearest ? nearest8<kFmt, kUsed, F>(t, s, uv, I(0), pow2)
-                   : bilinear8<kFmt, kUsed, F>(t, s, uv, I(0), pow2);
-  if (nearest || s.filter == Filter::kBilinear) {
+  if (q == 0) return {I(0), I(0), F(0.0f)};
+  const F fq = F(static_cast<float>(q));
+  if (filter == Filter::kNearest || filter == Filter::kBilinear) {
     // NEAREST_MIPMAP_NEAREST and LINEAR_MIPMAP_NEAREST: the level nearest to lod.
-    const F fq = F(static_cast<float>(q));
     I lvl = vmin(trunc_to_int(-vfloor(-(lod + F(0.5f)))) - I(1), I(q));  // ceil
     lvl = select(lod <= F(0.5f), I(0), select(lod > fq + F(0.5f), I(q), lvl));
-    return nearest ? nearest8<kFmt, kUsed, F>(t, s, uv, lvl, pow2)
-                   : bilinear8<kFmt, kUsed, F>(t, s, uv, lvl, pow2);
+    return {lvl, lvl, F(0.0f)};
   }
-  // Trilinear: the two levels around lod; f = 0 where one level is exact.
-  const F fq = F(static_cast<float>(q));
+  const mask_t<F> base = lod <= F(0.0f);
   const F fl = vfloor(lod);
   const mask_t<F> top = lod >= fq;
   const I d1 = select(base, I(0), select(top, I(q), trunc_to_int(vmax(fl, F(0.0f)))));
-  const F f = select(base | top, F(0.0f), lod - fl);
-  const V4<F> t1 = bilinear8<kFmt, kUsed, F>(t, s, uv, d1, pow2);
-  if (none(f != F(0.0f))) return t1;
-  const V4<F> t2 = bilinear8<kFmt, kUsed, F>(t, s, uv, vmin(d1 + I(1), I(q)), pow2);
-  return lerp4(t1, t2, f);
+  return {d1, vmin(d1 + I(1), I(q)), select(base | top, F(0.0f), lod - fl)};
+}
+
+// Whether every level size of t is a power of two (wrap_lanes' shortcut).
+inline bool pow2_texture(const Texture& t) {
+  return (t.width() & (t.width() - 1)) == 0 && (t.height() & (t.height() - 1)) == 0;
+}
+
+// One filtered read at the level(s) `at`: nearest or bilinear by the sampler's filter.
+template <TexFormat kFmt, int kUsed, class F>
+[[gnu::always_inline]] inline V4<F> filter_at(const Texture& t, const SamplerState& s, V2<F> uv,
+                                              const LevelAccess<int_t<F>>& at, bool pow2) {
+  return s.filter == Filter::kNearest ? nearest_at<kFmt, kUsed, F>(t, s, uv, at, pow2)
+                                      : bilinear_at<kFmt, kUsed, F>(t, s, uv, at, pow2);
+}
+
+// textureLod on the lane-parallel path (texture.cpp's sample_lod_impl, lane by lane).
+template <TexFormat kFmt, int kUsed, class F>
+inline V4<F> sample_lod_texels(const Texture& t, const SamplerState& s, V2<F> uv, F lod) {
+  const bool pow2 = pow2_texture(t);
+  const LodLevels<F> l = lod_levels(t.levels(), s.filter, lod);
+  const V4<F> t1 = filter_at<kFmt, kUsed, F>(t, s, uv, level_access<F>(t, l.lo), pow2);
+  if (none(l.f != F(0.0f))) return t1;
+  const V4<F> t2 = bilinear_at<kFmt, kUsed, F>(t, s, uv, level_access<F>(t, l.hi), pow2);
+  return lerp4(t1, t2, l.f);
 }
 
 template <int kUsed, class F>

@@ -6,6 +6,8 @@
 // large to compile (docs/performance.md); out of line they cost a call and a few stores a read.
 #pragma once
 
+#include <cstdint>
+#include <cstring>
 #include <type_traits>
 
 #include "shaders_cpp/lanes.h"
@@ -24,6 +26,48 @@ inline F8 texture_r_lod_dispatch(const Texture& t, const SamplerState& s, const 
                                  const F8& lod) {
   F8 out;
   texture_r_lod_into(t, s, uv, lod, &out);
+  return out;
+}
+
+// texture_r_lod prepared for many reads at one texture, sampler and LOD per lane (a depth
+// search: the LOD is per quad and fixed along the ray). prepare_r_lod chooses the mip levels,
+// their sizes and where their texels come from once; each read then computes only its
+// coordinates, texel loads and lerps, in an entry specialised for the texture's format and the
+// filter (nearest, one bilinear level or two blended), picked by prepare_r_lod for the CPU. When
+// the lanes' LODs fall on different levels it reads through texture_r_lod_into. Same bits as
+// texture_r_lod either way.
+struct RLodPlan {
+  struct Level {
+    const MipLevel* mip;
+    int32_t index, w, h;  // level number and size in texels
+    bool gather;          // can_gather<F8>(*mip)
+  };
+  using Read = void (*)(const RLodPlan&, const V2<F8>&, F8*);
+  const Texture* texture = nullptr;
+  SamplerState sampler;
+  float lod[8] = {};  // the LODs it was prepared for (compared bit for bit)
+  float f[8] = {};    // the second level's weight per lane (two levels)
+  Level level[2] = {};
+  bool pow2 = false;
+  bool shared_levels = false;  // every lane on level[0] (and level[1]): the specialised reads
+  Read read = nullptr;
+
+  // Whether this plan serves texture t, sampler s and the lanes' LODs lod[0..8).
+  bool prepared_for(const Texture& t, const SamplerState& s, const float* l) const {
+    return texture == &t && sampler.filter == s.filter && sampler.wrap_u == s.wrap_u &&
+           sampler.wrap_v == s.wrap_v && std::memcmp(lod, l, sizeof(lod)) == 0;
+  }
+};
+
+void prepare_r_lod(const Texture& t, const SamplerState& s, const float* lod, RLodPlan* plan);
+
+// texture_r_lod at uv with the LODs lod[0..8), through `plan`, which is prepared again when it
+// was made for another texture, sampler or LODs.
+inline F8 texture_r_lod_planned(const Texture& t, const SamplerState& s, const float* lod,
+                                const V2<F8>& uv, RLodPlan& plan) {
+  if (!plan.prepared_for(t, s, lod)) prepare_r_lod(t, s, lod, &plan);
+  F8 out;
+  plan.read(plan, uv, &out);
   return out;
 }
 

@@ -31,26 +31,34 @@
 namespace relief {
 
 // The first channel of `t` at uv with the lanes' LODs lod[0..lanes): the lane-parallel sampler,
-// through its out-of-line entry for F8 (bit-identical to sample_r_lod per lane).
+// for F8 through `plan` (sampling_simd.h: levels chosen once for the LODs, the read out of line),
+// bit-identical to sample_r_lod per lane.
 template <class F>
-inline F r_lod_lanes(const Texture& t, const SamplerState& s, const float* lod, V2<F> uv) {
-  const F l = load_lanes(lod, F());
-  if constexpr (std::is_same_v<F, F8>)
-    return texture_r_lod_dispatch(t, s, uv, l);
-  else
-    return texture_r_lod(t, s, uv, l);
+inline F r_lod_lanes(const Texture& t, const SamplerState& s, const float* lod, V2<F> uv,
+                     RLodPlan& plan) {
+  if constexpr (std::is_same_v<F, F8>) {
+    return texture_r_lod_planned(t, s, lod, uv, plan);
+  } else {
+    (void)plan;
+    return texture_r_lod(t, s, uv, load_lanes(lod, F()));
+  }
 }
 
 // Depth from the first channel of a texture at a fixed LOD per lane (computed once per quad).
+// `plan` is the lane reads' cache: prepared on the first read, again when the texture, sampler
+// or LODs have changed since (a copy may be retargeted), so it never serves stale levels.
 struct TextureDepth {
   const Texture* texture = nullptr;
   const SamplerState* sampler = nullptr;
   float lod[8] = {};
+  mutable RLodPlan plan;
   float operator()(int lane, float u, float v) const {
     return sample_r_lod(*texture, *sampler, glm::vec2(u, v), lod[lane]);
   }
   // All lanes through the lane-parallel sampler (bit-identical to operator() per lane).
-  template <class F> F lanes(V2<F> uv) const { return r_lod_lanes(*texture, *sampler, lod, uv); }
+  template <class F> F lanes(V2<F> uv) const {
+    return r_lod_lanes(*texture, *sampler, lod, uv, plan);
+  }
 };
 
 template <class F>
@@ -97,12 +105,27 @@ inline SearchHit<F> linear_search(const Depth& depth, V2<F> uv, V2<F> ds, F n, m
   F t_out(0.0f), g_out(0.0f), t_in(0.0f), g_in(0.0f);
   F steps(0.0f), fetches(0.0f);
   mask_t<F> searching = active;
+  // Over 8 lanes the samples of steps i and i + 1 are read together, at even i: the two reads do
+  // not depend on each other, so the second one's texel loads are in flight while the first is
+  // decoded and tested (a read is a chain of dependent latencies, not a throughput limit). The
+  // same values either way: step i + 1 takes its lanes, all of which were searching at step i.
+  constexpr bool kReadAhead = lane_width<F> > 1;
+  F d_ahead(0.0f);
   for (int i = 0; any(searching); ++i) {
     F fi = F(static_cast<float>(i));
     mask_t<F> last = fi >= n;
     F t = select(last, F(1.0f), fi * inv_n);
     mask_t<F> fetch = searching;
-    F d = sample_depth(depth, uv + ds * t, fetch);
+    F d;
+    if (kReadAhead && (i & 1) != 0) {
+      d = select(fetch, d_ahead, F(0.0f));
+    } else {
+      d = sample_depth(depth, uv + ds * t, fetch);
+      if constexpr (kReadAhead) {
+        const F f1 = F(static_cast<float>(i + 1));
+        d_ahead = sample_depth(depth, uv + ds * select(f1 >= n, F(1.0f), f1 * inv_n), fetch);
+      }
+    }
     F g = select(last, vmin(d - t, F(0.0f)), d - t);
     mask_t<F> inside = searching & (last | (g <= F(0.0f)));
     mask_t<F> outside = searching & !inside;
@@ -122,17 +145,40 @@ inline SearchHit<F> linear_search(const Depth& depth, V2<F> uv, V2<F> ds, F n, m
 // lanes)` tells which midpoints are inside; hi keeps the inside end, lo the outside one. Each
 // halving adds one step and `fetches_per_step` fetches per refined lane. The loop every bracketed
 // search shares (binary_search here, shaders_cpp/dual_depth.h, shaders_cpp/quadric.h).
+//
+// Over 8 lanes two halvings are taken per round from three independent tests: the midpoint and
+// both midpoints the second halving can have (of [lo, mid] and of [mid, hi]), each the value the
+// sequential halving computes, then the second is picked by the first's outcome. Same brackets
+// bit for bit; a third more tests, but they run side by side instead of one after the other
+// (a test is a chain of dependent latencies). Counters count the sequential halvings.
 template <class F, class Inside>
 inline void bisect(F& lo, F& hi, mask_t<F> refine, int m, float fetches_per_step, F& steps,
                    F& fetches, const Inside& inside) {
+  constexpr bool kTwoPerRound = lane_width<F> > 1;
+  const F per_step = fetches_per_step == 1.0f ? detail::count<F>(refine)
+                                              : detail::count<F>(refine) * F(fetches_per_step);
   for (int i = 0; i < m && any(refine); ++i) {
     const F mid = (lo + hi) * F(0.5f);
+    if (kTwoPerRound && i + 1 < m) {
+      const F mid_lo = (lo + mid) * F(0.5f), mid_hi = (mid + hi) * F(0.5f);
+      const mask_t<F> in = inside(mid, refine);
+      const mask_t<F> in_lo = inside(mid_lo, refine), in_hi = inside(mid_hi, refine);
+      hi = select(refine & in, mid, hi);
+      lo = select(refine & !in, mid, lo);
+      const F mid2 = select(in, mid_lo, mid_hi);
+      const mask_t<F> in2 = (in & in_lo) | (!in & in_hi);
+      hi = select(refine & in2, mid2, hi);
+      lo = select(refine & !in2, mid2, lo);
+      steps += detail::count<F>(refine) + detail::count<F>(refine);
+      fetches += per_step + per_step;
+      ++i;
+      continue;
+    }
     const mask_t<F> in = inside(mid, refine);
     hi = select(refine & in, mid, hi);
     lo = select(refine & !in, mid, lo);
     steps += detail::count<F>(refine);
-    fetches += fetches_per_step == 1.0f ? detail::count<F>(refine)
-                                        : detail::count<F>(refine) * F(fetches_per_step);
+    fetches += per_step;
   }
 }
 

@@ -40,11 +40,21 @@ inline ShadowResult<F> self_shadow(const Depth& depth, V2<F> uv, F t, V2<F> dl, 
   F steps(0.0f), fetches(0.0f);
   mask_t<F> marching = active & lit_side;
   F inv_t = F(1.0f) / vmax(t, F(1e-30f));
+  // Steps i and i + 1 (odd i) read together over 8 lanes, as linear_search does (search.h).
+  constexpr bool kReadAhead = lane_width<F> > 1;
+  F d_ahead(0.0f);
   for (int i = 1; any(marching); ++i) {
     F s = F(static_cast<float>(i)) * inv_n;
     marching = marching & (s < t);
     if (none(marching)) break;
-    F d = sample_depth(depth, uv + dl * s, marching);
+    F d;
+    if (kReadAhead && (i & 1) == 0) {
+      d = select(marching, d_ahead, F(0.0f));
+    } else {
+      d = sample_depth(depth, uv + dl * s, marching);
+      if constexpr (kReadAhead)
+        d_ahead = sample_depth(depth, uv + dl * (F(static_cast<float>(i + 1)) * inv_n), marching);
+    }
     F above = (t - s) - d;  // > 0: surface above the ray
     steps += select(marching, F(1.0f), F(0.0f));
     fetches += select(marching, F(1.0f), F(0.0f));

@@ -137,5 +137,70 @@ TEST(Sampling, GradEntryMatchesInlineTextureGrad) {
   EXPECT_EQ(checked, 4 * 2 * 3 * 64 * 8);
 }
 
+// A prepared read (RLodPlan: levels chosen once for the lanes' LODs, a read entry specialised for
+// format and filter) gives texture_r_lod's bits for every format, filter and wrap, power-of-two
+// and other sizes, with the two quads' LODs on one level (the specialised reads) and on
+// different ones (the whole sampler per read); a plan is prepared again when its texture,
+// sampler or LODs change.
+TEST(Sampling, PlannedReadMatchesTextureRLodBitForBit) {
+  std::mt19937 rng(23);
+  std::uniform_real_distribution<float> uvd(-3.0f, 3.0f), lodd(-1.5f, 8.0f);
+  int checked = 0, shared = 0, mixed = 0;
+  for (TexFormat f : {TexFormat::kR8, TexFormat::kRG8, TexFormat::kRGBA8, TexFormat::kR32F})
+    for (auto [w, h] : {std::pair{64, 32}, std::pair{37, 20}, std::pair{1, 1}}) {
+      const Texture t = random_texture(f, w, h, ColorSpace::kLinear, static_cast<uint32_t>(w + h));
+      for (Filter filter : {Filter::kNearest, Filter::kBilinear, Filter::kTrilinear})
+        for (Wrap wrap : {Wrap::kRepeat, Wrap::kClamp}) {
+          SamplerState s;
+          s.filter = filter;
+          s.wrap_u = wrap;
+          s.wrap_v = wrap == Wrap::kRepeat ? Wrap::kClamp : Wrap::kRepeat;
+          RLodPlan plan;
+          for (int n = 0; n < 24; ++n) {
+            float lod[8];
+            const float a = lodd(rng), b = n % 3 == 0 ? lodd(rng) : a + 0.01f;
+            for (int i = 0; i < 8; ++i) lod[i] = i < 4 ? a : b;  // one LOD per quad
+            for (int r = 0; r < 4; ++r) {  // several reads through one plan
+              V2<F8> uv;
+              for (int i = 0; i < 8; ++i) {
+                uv.x.set(i, uvd(rng));
+                uv.y.set(i, uvd(rng));
+              }
+              const F8 got = texture_r_lod_planned(t, s, lod, uv, plan);
+              const F8 want = texture_r_lod(t, s, uv, F8::load(lod));
+              for (int i = 0; i < 8; ++i) {
+                ASSERT_EQ(float_bits(got[i]), float_bits(want[i]))
+                    << format_name(f) << " " << w << "x" << h << " lane " << i;
+                ++checked;
+              }
+            }
+            ASSERT_TRUE(plan.prepared_for(t, s, lod));
+            (plan.shared_levels ? shared : mixed) += 1;
+          }
+        }
+    }
+  EXPECT_EQ(checked, 4 * 3 * 3 * 2 * 24 * 4 * 8);
+  EXPECT_GT(shared, 500);  // mostly one level: the specialised reads are what was checked
+  EXPECT_GT(mixed, 20);    // and some packets on two levels: the whole sampler per read
+
+  // a plan made for one texture, sampler or LOD set is not used for another
+  const Texture a = random_texture(TexFormat::kR8, 64, 64, ColorSpace::kLinear, 1);
+  const Texture b = random_texture(TexFormat::kR8, 64, 64, ColorSpace::kLinear, 2);
+  SamplerState s;
+  float lod[8] = {1.25f, 1.25f, 1.25f, 1.25f, 1.25f, 1.25f, 1.25f, 1.25f};
+  RLodPlan plan;
+  const V2<F8> uv(F8(0.3f), F8(0.7f));
+  texture_r_lod_planned(a, s, lod, uv, plan);
+  EXPECT_TRUE(plan.prepared_for(a, s, lod));
+  EXPECT_FALSE(plan.prepared_for(b, s, lod));
+  const F8 from_b = texture_r_lod_planned(b, s, lod, uv, plan);
+  EXPECT_EQ(float_bits(from_b[0]), float_bits(texture_r_lod(b, s, uv, F8::load(lod))[0]));
+  SamplerState nearest = s;
+  nearest.filter = Filter::kNearest;
+  EXPECT_FALSE(plan.prepared_for(b, nearest, lod));
+  lod[5] = 2.0f;
+  EXPECT_FALSE(plan.prepared_for(b, s, lod));
+}
+
 }  // namespace
 }  // namespace relief
