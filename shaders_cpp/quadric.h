@@ -159,11 +159,14 @@ inline QuadricHit<F> quadric_search(const Depth& depth, V2<F> uv, const QuadricR
   F t_out(0.0f), t_in(0.0f);
   F steps(0.0f), fetches(0.0f);
   mask_t<F> searching = active, found = false_mask<F>();
+  F ahead(0.0f);  // steps i and i + 1 read together (search.h paired_sample)
   for (int i = 0; any(searching); ++i) {
     const F fi = F(static_cast<float>(i));
     const mask_t<F> last = fi >= n;
     const F t = select(last, r.t_max, fi * dt);
-    const F h = sample_depth(depth, uv + duv * t, searching);
+    const F fi1 = F(static_cast<float>(i + 1));
+    const F t1 = select(fi1 >= n, r.t_max, fi1 * dt);
+    const F h = paired_sample(depth, (i & 1) == 0, uv + duv * t, uv + duv * t1, searching, ahead);
     const F D = quadric_distance<kD>(r, t);
     const mask_t<F> in = (h <= D) | (last & r.bottom);
     const mask_t<F> hit = searching & in;

@@ -12,6 +12,7 @@
 // shaders_cpp/sampling_simd.h.
 #pragma once
 
+#include <bit>
 #include <climits>
 #include <type_traits>
 
@@ -241,12 +242,26 @@ template <class F>
   return {&level, can_gather<F>(level)};
 }
 
-// Each lane's level size in texels (at least 1).
+// Each lane's level size in texels (at least 1), and log2 of the width where the texture's sizes
+// are powers of two (rows are then addressed by a shift: a multiply is a long latency on the way
+// to the gather).
 template <class I> struct LevelSize {
-  I w, h;
+  I w, h, w_shift;
 };
+inline int width_log2(const Texture& t) {
+  return std::countr_zero(static_cast<unsigned>(t.width()));
+}
 template <class I> inline LevelSize<I> level_size(const Texture& t, I lvl) {
-  return {vmax(I(t.width()) >> lvl, I(1)), vmax(I(t.height()) >> lvl, I(1))};
+  return {vmax(I(t.width()) >> lvl, I(1)), vmax(I(t.height()) >> lvl, I(1)),
+          vmax(I(width_log2(t)) - lvl, I(0))};
+}
+// Row offset y * w of each lane: y << w_shift for power-of-two textures (the same value).
+template <class I> inline I row_offset(const I& y, const LevelSize<I>& size, bool pow2) {
+  if (!pow2) return y * size.w;
+  if constexpr (std::is_same_v<I, I8>)
+    return I8(y.v << size.w_shift.v);
+  else
+    return y << size.w_shift;
 }
 
 // Where a read at per-lane mip level `lvl` finds its texels: the level's sizes and word source.
@@ -274,7 +289,7 @@ template <TexFormat kFmt, int kUsed, class F>
   const I ix = trunc_to_int(fx), iy = trunc_to_int(fy);
   const I x0 = wrap_lanes(ix, w, s.wrap_u, pow2), x1 = wrap_lanes(ix + I(1), w, s.wrap_u, pow2);
   const I y0 = wrap_lanes(iy, h, s.wrap_v, pow2), y1 = wrap_lanes(iy + I(1), h, s.wrap_v, pow2);
-  const I r0 = y0 * w, r1 = y1 * w;
+  const I r0 = row_offset(y0, at.size, pow2), r1 = row_offset(y1, at.size, pow2);
   const WordSource& src = at.src;
   constexpr int kB = texel_bytes(kFmt);
   I t00, t10, t01, t11;
@@ -335,8 +350,9 @@ template <TexFormat kFmt, int kUsed, class F>
   const WordSource& src = at.src;
   I word;
   if constexpr (std::is_same_v<F, F8>)
-    if (src.gather) word = gather_word<texel_bytes(kFmt)>(*src.level, y * n.w + x);
-  if (!src.gather) word = load_words<texel_bytes(kFmt), F>(t, lvl, src.level, y * n.w + x);
+    if (src.gather) word = gather_word<texel_bytes(kFmt)>(*src.level, row_offset(y, n, pow2) + x);
+  if (!src.gather)
+    word = load_words<texel_bytes(kFmt), F>(t, lvl, src.level, row_offset(y, n, pow2) + x);
   const bool srgb = t.color_space() == ColorSpace::kSRGB;
   const float* lut = srgb ? srgb8_table() : nullptr;
   F out[4] = {F(0.0f), F(0.0f), F(0.0f), F(0.0f)};

@@ -35,7 +35,8 @@ RELIEF_AVX2_ENTRY void r_lod_fmt_avx2(const RLodArgs& a) {
 template <TexFormat kFmt, bool kNearest>
 [[gnu::always_inline]] inline F8 planned_level(const RLodPlan& p, const V2<F8>& uv, int k) {
   const RLodPlan::Level& l = p.level[k];
-  const detail::LevelAccess<I8> at{I8(l.index), {I8(l.w), I8(l.h)}, {l.mip, l.gather}};
+  const detail::LevelAccess<I8> at{
+      I8(l.index), {I8(l.w), I8(l.h), I8(l.w_shift)}, {l.mip, l.gather}};
   if constexpr (kNearest)
     return detail::nearest_at<kFmt, 1, F8>(*p.texture, p.sampler, uv, at, p.pow2).x;
   else
@@ -135,7 +136,11 @@ void prepare_r_lod(const Texture& t, const SamplerState& s, const float* lod, RL
   const int idx[2] = {lo, hi};
   for (int k = 0; k < 2; ++k) {
     const MipLevel& m = t.level(idx[k]);
-    p.level[k] = {&m, idx[k], std::max(t.width() >> idx[k], 1), std::max(t.height() >> idx[k], 1),
+    p.level[k] = {&m,
+                  idx[k],
+                  std::max(t.width() >> idx[k], 1),
+                  std::max(t.height() >> idx[k], 1),
+                  std::max(detail::width_log2(t) - idx[k], 0),
                   detail::can_gather<F8>(m)};
   }
   const bool nearest = s.filter == Filter::kNearest;

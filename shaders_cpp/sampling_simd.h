@@ -39,7 +39,7 @@ inline F8 texture_r_lod_dispatch(const Texture& t, const SamplerState& s, const 
 struct RLodPlan {
   struct Level {
     const MipLevel* mip;
-    int32_t index, w, h;  // level number and size in texels
+    int32_t index, w, h, w_shift;  // level number, size in texels, log2 w (power-of-two sizes)
     bool gather;          // can_gather<F8>(*mip)
   };
   using Read = void (*)(const RLodPlan&, const V2<F8>&, F8*);

@@ -87,6 +87,29 @@ inline F sample_depth(const Depth& depth, V2<F> uv, mask_t<F> active) {
   });
 }
 
+// A march's depth sample at uv for the lanes m, over 8 lanes read two steps at a time: on a
+// `fresh` step it reads uv and the next step's uv_next together and keeps the second in `ahead`
+// (the two reads do not depend on each other, so the second one's texel loads are in flight
+// while the first is decoded and tested: a read is a chain of dependent latencies, not a
+// throughput limit); on the next step it returns the kept sample for that step's lanes, all of
+// which were marching at the fresh step, so the values are the ones a read would give. A single
+// lane reads every step.
+template <class F, class Depth>
+[[gnu::always_inline]] inline F paired_sample(const Depth& depth, bool fresh, const V2<F>& uv,
+                                              const V2<F>& uv_next, mask_t<F> m, F& ahead) {
+  if constexpr (lane_width<F> > 1) {
+    if (!fresh) return select(m, ahead, F(0.0f));
+    const F d = sample_depth(depth, uv, m);
+    ahead = sample_depth(depth, uv_next, m);
+    return d;
+  } else {
+    (void)fresh;
+    (void)uv_next;
+    (void)ahead;
+    return sample_depth(depth, uv, m);
+  }
+}
+
 namespace detail {
 template <class F>
 inline F count(mask_t<F> m) {
@@ -105,27 +128,15 @@ inline SearchHit<F> linear_search(const Depth& depth, V2<F> uv, V2<F> ds, F n, m
   F t_out(0.0f), g_out(0.0f), t_in(0.0f), g_in(0.0f);
   F steps(0.0f), fetches(0.0f);
   mask_t<F> searching = active;
-  // Over 8 lanes the samples of steps i and i + 1 are read together, at even i: the two reads do
-  // not depend on each other, so the second one's texel loads are in flight while the first is
-  // decoded and tested (a read is a chain of dependent latencies, not a throughput limit). The
-  // same values either way: step i + 1 takes its lanes, all of which were searching at step i.
-  constexpr bool kReadAhead = lane_width<F> > 1;
-  F d_ahead(0.0f);
+  F ahead(0.0f);  // steps i and i + 1 read together (paired_sample)
   for (int i = 0; any(searching); ++i) {
     F fi = F(static_cast<float>(i));
     mask_t<F> last = fi >= n;
     F t = select(last, F(1.0f), fi * inv_n);
+    const F fi1 = F(static_cast<float>(i + 1));
+    const F t1 = select(fi1 >= n, F(1.0f), fi1 * inv_n);
     mask_t<F> fetch = searching;
-    F d;
-    if (kReadAhead && (i & 1) != 0) {
-      d = select(fetch, d_ahead, F(0.0f));
-    } else {
-      d = sample_depth(depth, uv + ds * t, fetch);
-      if constexpr (kReadAhead) {
-        const F f1 = F(static_cast<float>(i + 1));
-        d_ahead = sample_depth(depth, uv + ds * select(f1 >= n, F(1.0f), f1 * inv_n), fetch);
-      }
-    }
+    F d = paired_sample(depth, (i & 1) == 0, uv + ds * t, uv + ds * t1, fetch, ahead);
     F g = select(last, vmin(d - t, F(0.0f)), d - t);
     mask_t<F> inside = searching & (last | (g <= F(0.0f)));
     mask_t<F> outside = searching & !inside;

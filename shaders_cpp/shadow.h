@@ -40,21 +40,13 @@ inline ShadowResult<F> self_shadow(const Depth& depth, V2<F> uv, F t, V2<F> dl, 
   F steps(0.0f), fetches(0.0f);
   mask_t<F> marching = active & lit_side;
   F inv_t = F(1.0f) / vmax(t, F(1e-30f));
-  // Steps i and i + 1 (odd i) read together over 8 lanes, as linear_search does (search.h).
-  constexpr bool kReadAhead = lane_width<F> > 1;
-  F d_ahead(0.0f);
+  F ahead(0.0f);  // steps i and i + 1 (odd i) read together (search.h paired_sample)
   for (int i = 1; any(marching); ++i) {
     F s = F(static_cast<float>(i)) * inv_n;
     marching = marching & (s < t);
     if (none(marching)) break;
-    F d;
-    if (kReadAhead && (i & 1) == 0) {
-      d = select(marching, d_ahead, F(0.0f));
-    } else {
-      d = sample_depth(depth, uv + dl * s, marching);
-      if constexpr (kReadAhead)
-        d_ahead = sample_depth(depth, uv + dl * (F(static_cast<float>(i + 1)) * inv_n), marching);
-    }
+    const F s1 = F(static_cast<float>(i + 1)) * inv_n;
+    F d = paired_sample(depth, (i & 1) != 0, uv + dl * s, uv + dl * s1, marching, ahead);
     F above = (t - s) - d;  // > 0: surface above the ray
     steps += select(marching, F(1.0f), F(0.0f));
     fetches += select(marching, F(1.0f), F(0.0f));
