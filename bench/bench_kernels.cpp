@@ -182,32 +182,34 @@ template <class Loop> void run_reads(benchmark::State& state, Loop&& loop) {
   }
   state.SetItemsProcessed(static_cast<int64_t>(state.iterations()) * kReads * 8);
 }
-float reads_base(const TextureDepth& d, const float* u, const float* v) {
+// The sum of the reads, through the plan (kPlanned) or the whole sampler per read (level choice
+// per read, as before RLodPlan).
+template <bool kPlanned>
+[[gnu::always_inline]] inline float sum_reads(const TextureDepth& d, const float* u,
+                                              const float* v) {
   F8 acc(0.0f);
-  for (int i = 0; i < kReads; i += 8) acc = acc + d.lanes(V2<F8>(F8::load(u + i), F8::load(v + i)));
+  const F8 lod = F8::load(d.lod);
+  for (int i = 0; i < kReads; i += 8) {
+    const V2<F8> uv(F8::load(u + i), F8::load(v + i));
+    if constexpr (kPlanned)
+      acc = acc + d.lanes(uv);
+    else
+      acc = acc + texture_r_lod_dispatch(*d.texture, *d.sampler, uv, lod);
+  }
   float r[8];
   acc.store(r);
   return r[0] + r[7];
+}
+float reads_base(const TextureDepth& d, const float* u, const float* v) {
+  return sum_reads<true>(d, u, v);
 }
 __attribute__((target("avx2"), flatten, noinline)) float reads_avx2(const TextureDepth& d,
                                                                    const float* u, const float* v) {
-  F8 acc(0.0f);
-  for (int i = 0; i < kReads; i += 8) acc = acc + d.lanes(V2<F8>(F8::load(u + i), F8::load(v + i)));
-  float r[8];
-  acc.store(r);
-  return r[0] + r[7];
+  return sum_reads<true>(d, u, v);
 }
-// The same reads through the whole sampler (level choice per read), as before RLodPlan.
 __attribute__((target("avx2"), flatten, noinline)) float reads_unplanned_avx2(
     const TextureDepth& d, const float* u, const float* v) {
-  F8 acc(0.0f);
-  const F8 lod = F8::load(d.lod);
-  for (int i = 0; i < kReads; i += 8)
-    acc = acc + texture_r_lod_dispatch(*d.texture, *d.sampler,
-                                       V2<F8>(F8::load(u + i), F8::load(v + i)), lod);
-  float r[8];
-  acc.store(r);
-  return r[0] + r[7];
+  return sum_reads<false>(d, u, v);
 }
 void BM_Kernel_DepthReadBase(benchmark::State& state) { run_reads(state, reads_base); }
 void BM_Kernel_DepthReadUnplannedAvx2(benchmark::State& state) {

@@ -1,7 +1,5 @@
 #include "shaders_cpp/sampling_simd.h"
 
-#include <algorithm>
-
 namespace relief {
 namespace {
 
@@ -35,8 +33,8 @@ RELIEF_AVX2_ENTRY void r_lod_fmt_avx2(const RLodArgs& a) {
 template <TexFormat kFmt, bool kNearest>
 [[gnu::always_inline]] inline F8 planned_level(const RLodPlan& p, const V2<F8>& uv, int k) {
   const RLodPlan::Level& l = p.level[k];
-  const detail::LevelAccess<I8> at{
-      I8(l.index), {I8(l.w), I8(l.h), I8(l.w_shift)}, {l.mip, l.gather}};
+  const detail::LevelAccess<I8> at{I8(l.lvl), {I8(l.size.w), I8(l.size.h), I8(l.size.w_shift)},
+                                   l.src};
   if constexpr (kNearest)
     return detail::nearest_at<kFmt, 1, F8>(*p.texture, p.sampler, uv, at, p.pow2).x;
   else
@@ -49,7 +47,7 @@ template <TexFormat kFmt, int kLevels, bool kNearest>
     return r;
   } else {
     const F8 r2 = planned_level<kFmt, kNearest>(p, uv, 1);
-    return r + F8::load(p.f) * (r2 - r);  // lerp4's order
+    return mix(r, r2, F8::load(p.f));  // lerp4's bits: r + (r2 - r) * f
   }
 }
 template <TexFormat kFmt, int kLevels, bool kNearest>
@@ -136,12 +134,7 @@ void prepare_r_lod(const Texture& t, const SamplerState& s, const float* lod, RL
   const int idx[2] = {lo, hi};
   for (int k = 0; k < 2; ++k) {
     const MipLevel& m = t.level(idx[k]);
-    p.level[k] = {&m,
-                  idx[k],
-                  std::max(t.width() >> idx[k], 1),
-                  std::max(t.height() >> idx[k], 1),
-                  std::max(detail::width_log2(t) - idx[k], 0),
-                  detail::can_gather<F8>(m)};
+    p.level[k] = {idx[k], detail::level_size(t, idx[k]), {&m, detail::can_gather<F8>(m)}};
   }
   const bool nearest = s.filter == Filter::kNearest;
   const int levels = two ? 2 : 1;

@@ -37,11 +37,7 @@ inline F8 texture_r_lod_dispatch(const Texture& t, const SamplerState& s, const 
 // the lanes' LODs fall on different levels it reads through texture_r_lod_into. Same bits as
 // texture_r_lod either way.
 struct RLodPlan {
-  struct Level {
-    const MipLevel* mip;
-    int32_t index, w, h, w_shift;  // level number, size in texels, log2 w (power-of-two sizes)
-    bool gather;          // can_gather<F8>(*mip)
-  };
+  using Level = detail::LevelAccess<int32_t>;  // what bilinear_at / nearest_at read, per plan
   using Read = void (*)(const RLodPlan&, const V2<F8>&, F8*);
   const Texture* texture = nullptr;
   SamplerState sampler;

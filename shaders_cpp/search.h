@@ -166,8 +166,8 @@ template <class F, class Inside>
 inline void bisect(F& lo, F& hi, mask_t<F> refine, int m, float fetches_per_step, F& steps,
                    F& fetches, const Inside& inside) {
   constexpr bool kTwoPerRound = lane_width<F> > 1;
-  const F per_step = fetches_per_step == 1.0f ? detail::count<F>(refine)
-                                              : detail::count<F>(refine) * F(fetches_per_step);
+  const F per_lane = detail::count<F>(refine);  // `refine` is fixed: so are the counts a step adds
+  const F per_step = per_lane * F(fetches_per_step);
   for (int i = 0; i < m && any(refine); ++i) {
     const F mid = (lo + hi) * F(0.5f);
     if (kTwoPerRound && i + 1 < m) {
@@ -180,7 +180,7 @@ inline void bisect(F& lo, F& hi, mask_t<F> refine, int m, float fetches_per_step
       const mask_t<F> in2 = (in & in_lo) | (!in & in_hi);
       hi = select(refine & in2, mid2, hi);
       lo = select(refine & !in2, mid2, lo);
-      steps += detail::count<F>(refine) + detail::count<F>(refine);
+      steps += per_lane + per_lane;
       fetches += per_step + per_step;
       ++i;
       continue;
@@ -188,7 +188,7 @@ inline void bisect(F& lo, F& hi, mask_t<F> refine, int m, float fetches_per_step
     const mask_t<F> in = inside(mid, refine);
     hi = select(refine & in, mid, hi);
     lo = select(refine & !in, mid, lo);
-    steps += detail::count<F>(refine);
+    steps += per_lane;
     fetches += per_step;
   }
 }
