@@ -347,12 +347,12 @@ template <TexFormat kFmt, int kUsed, class F>
   const F yf = floor_coord(texel_coord(uv.y, to_float(n.h), F(0.0f)));
   const I x = wrap_lanes(trunc_to_int(xf), n.w, s.wrap_u, pow2);
   const I y = wrap_lanes(trunc_to_int(yf), n.h, s.wrap_v, pow2);
+  const I idx = row_offset(y, n, pow2) + x;
   const WordSource& src = at.src;
   I word;
   if constexpr (std::is_same_v<F, F8>)
-    if (src.gather) word = gather_word<texel_bytes(kFmt)>(*src.level, row_offset(y, n, pow2) + x);
-  if (!src.gather)
-    word = load_words<texel_bytes(kFmt), F>(t, lvl, src.level, row_offset(y, n, pow2) + x);
+    if (src.gather) word = gather_word<texel_bytes(kFmt)>(*src.level, idx);
+  if (!src.gather) word = load_words<texel_bytes(kFmt), F>(t, lvl, src.level, idx);
   const bool srgb = t.color_space() == ColorSpace::kSRGB;
   const float* lut = srgb ? srgb8_table() : nullptr;
   F out[4] = {F(0.0f), F(0.0f), F(0.0f), F(0.0f)};
