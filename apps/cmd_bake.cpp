@@ -25,6 +25,8 @@
 #include "apps/commands.h"
 #include "bake/cone_map.h"
 #include "bake/normal_map.h"
+#include "rasterizer/output_file.h"
+#include "rasterizer/safe_file.h"
 #include "scene/image_io.h"
 
 namespace relief::cli {
@@ -42,6 +44,7 @@ struct BakeArgs {
   bool bilinear = false;
   int threads = 0;
   bool dual = false;  // --dual: the input is a glTF mesh, -o a prefix (apps/cmd_bake_dual.cpp)
+  bool allow_outside_scene_dir = false;  // --dual: its URIs may leave its folder
   int size = 256;
   float grow = 1.0f;
 };
@@ -86,12 +89,13 @@ class ProgressBar {
 }  // namespace
 
 int run_bake_dual(const std::string& mesh_path, const std::string& prefix, int size, float grow,
-                  int threads);
+                  int threads, bool allow_outside_scene_dir);
 
 namespace {
 
 int run_bake(const BakeArgs& a) {
-  if (a.dual) return run_bake_dual(a.input, a.output, a.size, a.grow, a.threads);
+  if (a.dual)
+    return run_bake_dual(a.input, a.output, a.size, a.grow, a.threads, a.allow_outside_scene_dir);
   if (a.normal == !a.cone.empty())
     return fail("bake: choose exactly one of --normal or --cone KIND", 2);
   if (!(a.depth_scale > 0.0f) || !std::isfinite(a.depth_scale))
@@ -109,6 +113,9 @@ int run_bake(const BakeArgs& a) {
   if (!a.cone.empty() && a.max_ratio > 1.0f && ext != ".exr")
     return fail("bake: --max-ratio above 1 needs a float output (.exr); integer images hold [0, 1]",
                 2);
+  // The output can be written (its folder exists and is writable, it is no directory) before
+  // anything is baked; the write itself is atomic and checked (rasterizer/output_file.h).
+  if (Status o = check_output_path(a.output); !o.ok()) return fail(o.message(), o.exit_code());
 
   // A depth map has one channel: grey stored as RGB is fine, colour (R, G, B differ) is not.
   {
@@ -120,13 +127,15 @@ int run_bake(const BakeArgs& a) {
         for (int x = 0; x < t.width(0); ++x) {
           const glm::vec4 c = t.fetch(0, x, y);
           if (c.x != c.y || c.x != c.z)
-            return fail(
-                a.input + ": a colour image (R, G and B differ); a depth map has one channel", 1);
+            return fail(printable(a.input) +
+                            ": a colour image (R, G and B differ); a depth map has one channel",
+                        1);
         }
   }
   TextureLoadOptions lo;
   lo.first_channel_only = true;
   lo.height_to_depth = a.height;
+  lo.unit_range = true;
   Result<Texture> depth = load_texture(a.input, lo);
   if (!depth.ok()) return fail(depth.status().message(), depth.status().exit_code());
   const Texture& d = depth.value();
@@ -226,6 +235,8 @@ void register_bake(CLI::App& app, Action& action) {
   sub->add_flag("--dual", args->dual,
                 "Dual-depth relief textures of a glTF mesh: -o PREFIX gets PREFIX_front.exr, "
                 "PREFIX_back.exr and their normal maps");
+  sub->add_flag("--allow-outside-scene-dir", args->allow_outside_scene_dir,
+                "--dual: let the glTF file's URIs lead outside its folder (.., symlinks)");
   sub->add_option("--size", args->size, "--dual: map size in texels (default 256)");
   sub->add_option("--grow", args->grow,
                   "--dual: the maps' square over the mesh's x-y bounds, times this (>= 1)");

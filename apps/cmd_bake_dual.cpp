@@ -20,20 +20,28 @@
 
 #include "apps/commands.h"
 #include "bake/dual_depth.h"
+#include "rasterizer/output_file.h"
+#include "rasterizer/safe_file.h"
 #include "scene/gltf.h"
 #include "scene/image_io.h"
 
 namespace relief::cli {
 
 int run_bake_dual(const std::string& mesh_path, const std::string& prefix, int size, float grow,
-                  int threads) {
+                  int threads, bool allow_outside_scene_dir) {
   if (size < 1 || size > 8192) return fail("bake --dual: --size must be in 1..8192", 2);
   if (!(grow >= 1.0f) || !std::isfinite(grow) || grow > 100.0f)
     return fail("bake --dual: --grow must be in [1, 100]", 2);
   if (threads < 0) return fail("bake: --threads must be >= 0 (0: all cores)", 2);
   if (prefix.empty()) return fail("bake --dual: -o PREFIX must not be empty", 2);
+  const std::string names[4] = {prefix + "_front.exr", prefix + "_back.exr",
+                                prefix + "_front_normal.exr", prefix + "_back_normal.exr"};
+  for (const std::string& n : names)  // before the bake: every output can be written
+    if (Status o = check_output_path(n); !o.ok()) return fail(o.message(), o.exit_code());
   const auto t0 = std::chrono::steady_clock::now();
-  Result<Scene> scene = load_gltf(mesh_path);
+  GltfLoadOptions load_options;
+  load_options.allow_outside_scene_dir = allow_outside_scene_dir;
+  Result<Scene> scene = load_gltf(mesh_path, load_options);
   if (!scene.ok()) return fail(scene.status().message(), scene.status().exit_code());
   std::vector<glm::vec3> positions, normals;
   std::vector<uint32_t> indices;
@@ -48,7 +56,7 @@ int run_bake_dual(const std::string& mesh_path, const std::string& prefix, int s
     }
     for (uint32_t k : m.indices) indices.push_back(base + k);
   }
-  if (indices.empty()) return fail(mesh_path + ": no triangles to bake", 1);
+  if (indices.empty()) return fail(printable(mesh_path) + ": no triangles to bake", 1);
   const DualDepthMaps maps = bake_dual_depth(positions, normals, indices, size, grow, threads);
 
   Plane front(size, size), back(size, size);
@@ -61,17 +69,20 @@ int run_bake_dual(const std::string& mesh_path, const std::string& prefix, int s
       front_n.at(x, y) = glm::vec4(maps.front_normal[i] * 0.5f + 0.5f, 1.0f);
       back_n.at(x, y) = glm::vec4(maps.back_normal[i] * 0.5f + 0.5f, 1.0f);
     }
-  const std::string names[4] = {prefix + "_front.exr", prefix + "_back.exr",
-                                prefix + "_front_normal.exr", prefix + "_back_normal.exr"};
-  Status st = write_plane(names[0], front);
-  if (st.ok()) st = write_plane(names[1], back);
-  if (st.ok()) st = write_image(names[2], front_n);
-  if (st.ok()) st = write_image(names[3], back_n);
-  if (!st.ok()) {
-    std::error_code ec;
-    for (const std::string& n : names) std::filesystem::remove(n, ec);
-    return fail(st.message(), st.exit_code());
-  }
+  // All four are written in full before any is renamed into place; on failure none is, and
+  // files already at those names are left as they were.
+  StagedFiles out;
+  auto stage = [&out](const std::string& file, const Result<std::vector<unsigned char>>& bytes) {
+    if (!bytes.ok()) return bytes.status();
+    return out.stage(file,
+                     std::string_view(reinterpret_cast<const char*>(bytes->data()), bytes->size()));
+  };
+  Status st = stage(names[0], encode_plane(names[0], front));
+  if (st.ok()) st = stage(names[1], encode_plane(names[1], back));
+  if (st.ok()) st = stage(names[2], encode_image(names[2], front_n));
+  if (st.ok()) st = stage(names[3], encode_image(names[3], back_n));
+  if (st.ok()) st = out.commit();
+  if (!st.ok()) return fail(st.message(), st.exit_code());
   const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   std::printf(
       "baked dual depth %dx%d in %.2f s -> %s_{front,back}{,_normal}.exr; box (%g %g %g) "

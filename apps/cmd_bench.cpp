@@ -14,6 +14,7 @@
 #include "apps/output.h"
 #include "apps/scene_source.h"
 #include "plugins/registry.h"
+#include "rasterizer/safe_file.h"
 #include "sweep/sweep.h"
 
 namespace relief::cli {
@@ -37,6 +38,7 @@ struct BenchArgs {
   double target_error = -1.0;
   std::string scene;
   std::string camera;
+  bool allow_outside_scene_dir = false;
   std::vector<std::string> plugins;
   bool no_progress = false;
   bool no_self_shadow = false;
@@ -87,13 +89,19 @@ std::string command_line() {
   return out;
 }
 
-// A path's folder must exist before the sweep runs (no output at all on error).
-Status check_output(const std::string& flag, const std::string& path) {
-  if (path.empty()) return {};
-  const std::filesystem::path p(path);
-  const std::filesystem::path dir = p.has_parent_path() ? p.parent_path() : ".";
-  if (!std::filesystem::is_directory(dir))
-    return Status::error(flag + ": folder '" + dir.string() + "' does not exist");
+// The --csv, --json and --report outputs, checked before the sweep runs (no output at all on
+// error): folders that exist and can be written, no file named twice (apps/output.h).
+Status check_outputs(const BenchArgs& a) {
+  OutputCheck check;
+  for (const auto& [flag, path] : {std::pair{"--csv", a.csv}, std::pair{"--json", a.json}})
+    if (!path.empty()) RELIEF_RETURN_IF_ERROR(check.add(flag, path, OutputCheck::Kind::kAny));
+  if (a.report.empty()) return {};
+  std::error_code ec;
+  const std::filesystem::path dir(a.report);
+  if (std::filesystem::exists(dir, ec) && !std::filesystem::is_directory(dir, ec))
+    return Status::error("--report: " + printable(a.report) + " exists and is not a folder");
+  if (std::filesystem::is_directory(dir, ec))
+    return check.add("--report", (dir / "index.html").string(), OutputCheck::Kind::kAny);
   return {};
 }
 
@@ -122,7 +130,7 @@ class Progress {
 int do_target(const BenchArgs& a, const sweep::Options& opt,
               const std::vector<sweep::Setting>& settings) {
   const std::string scene_name = a.scene.empty() ? default_scene_source() : a.scene;
-  Result<Scene> scene = load_scene_source(scene_name);
+  Result<Scene> scene = load_scene_source(scene_name, a.allow_outside_scene_dir);
   if (!scene.ok()) return fail(scene.status().message(), scene.status().exit_code());
   Result<int> camera = resolve_camera(*scene, a.camera);
   if (!camera.ok()) return fail(camera.status().message(), camera.status().exit_code());
@@ -201,10 +209,8 @@ int do_bench(BenchArgs& a) {
   const bool target = a.sub->count("--target-error") > 0;
   if (target && !(a.target_error > 0.0 && std::isfinite(a.target_error)))
     return fail("--target-error: expected a positive number of texels", 2);
-  for (const auto& [flag, path] : {std::pair{"--csv", a.csv}, std::pair{"--json", a.json}}) {
-    s = check_output(flag, path);
-    if (!s.ok()) return fail(s.message(), 1);
-  }
+  s = check_outputs(a);
+  if (!s.ok()) return fail(s.message(), s.exit_code());
   for (const std::string& p : a.plugins) {
     Status ls = PluginRegistry::global().load(p);
     if (!ls.ok()) return fail(ls.message(), ls.exit_code());
@@ -315,6 +321,7 @@ void register_bench(CLI::App& app, Action& action) {
       "Pick per material of --scene the cheapest setting with p99 hit error under E texels");
   sub->add_option("--scene", a->scene, "Scene for --target-error (built-in name or .gltf/.glb)");
   sub->add_option("--camera", a->camera, "Camera of --scene (name or index)");
+  sub->add_flag("--allow-outside-scene-dir", a->allow_outside_scene_dir, kAllowOutsideSceneDirHelp);
   sub->add_option("--plugin", a->plugins,
                   "Load an external plugin (.so); swept like the built-ins");
   sub->add_flag("--no-self-shadow", a->no_self_shadow,

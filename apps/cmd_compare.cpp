@@ -4,6 +4,8 @@
 #include <cstdio>
 
 #include "apps/commands.h"
+#include "apps/output.h"
+#include "rasterizer/safe_file.h"
 #include "render/compare.h"
 #include "scene/image_io.h"
 
@@ -23,26 +25,32 @@ struct CompareArgs {
 int run_compare(const CompareArgs& args) {
   if (!(args.threshold >= 0.0f) || !std::isfinite(args.threshold))
     return fail("compare: --threshold must be a finite number >= 0", 2);
+  if (!args.heatmap.empty()) {  // checked before any work, like every output
+    OutputCheck check;
+    Status s = check.add("--heatmap", args.heatmap, OutputCheck::Kind::kImage);
+    if (!s.ok()) return fail(s.message(), s.exit_code());
+  }
   Result<Image> a = read_image(args.a);
   if (!a.ok()) return fail(a.status().message(), 1);
   Result<Image> b = read_image(args.b);
   if (!b.ok()) return fail(b.status().message(), 1);
   if (a->width != b->width || a->height != b->height)
-    return fail("compare: " + args.a + " is " + std::to_string(a->width) + "x" +
-                    std::to_string(a->height) + " but " + args.b + " is " +
+    return fail("compare: " + printable(args.a) + " is " + std::to_string(a->width) + "x" +
+                    std::to_string(a->height) + " but " + printable(args.b) + " is " +
                     std::to_string(b->width) + "x" + std::to_string(b->height),
                 1);
-  if (a->width == 0 || a->height == 0) return fail("compare: empty image " + args.a, 1);
+  if (a->width == 0 || a->height == 0) return fail("compare: empty image " + printable(args.a), 1);
   const DiffSpace space = args.linear ? DiffSpace::kLinear : DiffSpace::kSrgb;
   const ImageDiff d = compare_images(*a, *b, args.threshold, space);
-  std::printf("size:      %dx%d (%s, RGB)\n", d.width, d.height, args.linear ? "linear" : "sRGB-encoded");
+  std::printf("size:      %dx%d (%s, RGB)\n", d.width, d.height,
+              args.linear ? "linear" : "sRGB-encoded");
   std::printf("rmse:      %.6f\n", d.rmse);
   if (std::isinf(d.psnr_db))
     std::printf("psnr:      inf dB (identical)\n");
   else
     std::printf("psnr:      %.2f dB\n", d.psnr_db);
-  std::printf("max error: %.6f (%.1f/255) at (%d, %d)\n", d.max_error, d.max_error * 255.0,
-              d.max_x, d.max_y);
+  std::printf("max error: %.6f (%.1f/255) at (%d, %d)\n", d.max_error, d.max_error * 255.0, d.max_x,
+              d.max_y);
   std::printf("over %.4f: %.4f%% (%zu pixels)\n", d.threshold, 100.0 * d.over_fraction,
               d.over_count);
   if (!args.heatmap.empty()) {

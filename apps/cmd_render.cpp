@@ -17,6 +17,7 @@
 #include "apps/output.h"
 #include "apps/scene_source.h"
 #include "plugins/registry.h"
+#include "rasterizer/output_file.h"
 #include "render/render.h"
 #include "scene/animation.h"
 #include "scene/image_io.h"
@@ -50,36 +51,7 @@ struct RenderArgs {
   double fps = 24.0;
   std::string animation;
   bool turntable = false;
-};
-
-// Files are first written under temporary names, renamed into place only when all succeeded.
-class OutputSet {
- public:
-  ~OutputSet() {
-    for (auto& [tmp, final_path] : files_) std::remove(tmp.c_str());
-  }
-  std::string temp_for(const std::string& path) {
-    namespace fs = std::filesystem;
-    const fs::path p(path);
-    const std::string tmp =
-        (p.parent_path() /
-         ("." + p.stem().string() + ".tmp" + std::to_string(::getpid()) + p.extension().string()))
-            .string();
-    files_.emplace_back(tmp, path);
-    return tmp;
-  }
-  Status commit() {
-    for (auto& [tmp, final_path] : files_) {
-      std::error_code ec;
-      std::filesystem::rename(tmp, final_path, ec);
-      if (ec) return Status::error(final_path + ": cannot rename into place: " + ec.message());
-    }
-    files_.clear();
-    return {};
-  }
-
- private:
-  std::vector<std::pair<std::string, std::string>> files_;
+  bool allow_outside_scene_dir = false;
 };
 
 nlohmann::json stats_json(const RenderResult& r, const std::string& scene,
@@ -188,6 +160,25 @@ struct OutputNames {
     if (!stats.empty()) RELIEF_RETURN_IF_ERROR(one(stats, "--stats"));
     return {};
   }
+  // Before anything renders: every output of `frames` (the first kMaxChecked and the last) can
+  // be written, images have a known extension, and no file is named twice (across frames too).
+  Status check_files(const std::vector<int>& frames, bool named) const {
+    constexpr size_t kMaxChecked = 1000;
+    OutputCheck outputs;
+    for (size_t fi = 0; fi < frames.size(); ++fi) {
+      if (fi >= kMaxChecked && fi + 1 != frames.size()) continue;
+      auto name_of = [&](const std::string& n) {
+        return named ? format_frame_name(n, frames[fi]) : n;
+      };
+      RELIEF_RETURN_IF_ERROR(outputs.add("--output", name_of(image), OutputCheck::Kind::kImage));
+      for (const auto& [aov, file] : aovs)
+        RELIEF_RETURN_IF_ERROR(
+            outputs.add("--aov " + aov, name_of(file), OutputCheck::Kind::kImage));
+      if (!stats.empty())
+        RELIEF_RETURN_IF_ERROR(outputs.add("--stats", name_of(stats), OutputCheck::Kind::kAny));
+    }
+    return {};
+  }
 };
 
 int do_render(const RenderArgs& a) {
@@ -258,6 +249,9 @@ int do_render(const RenderArgs& a) {
     return fail("--fps: expected a number of frames per second in (0, 1000]", 2);
   s = names.check(!a.frames.empty() && range.count() > 1);
   if (!s.ok()) return fail(s.message(), 2);
+  s = names.check_files(a.frames.empty() ? std::vector<int>{0} : shard_frames(range, shard),
+                        !a.frames.empty());
+  if (!s.ok()) return fail(s.message(), s.exit_code());
   opt.width *= k;
   opt.height *= k;
 
@@ -269,7 +263,7 @@ int do_render(const RenderArgs& a) {
     return fail("--backend: expected cpu or gl, got '" + a.backend + "'", 2);
 
   const std::string scene_name = a.scene.empty() ? default_scene_source() : a.scene;
-  Result<Scene> scene = load_scene_source(scene_name);
+  Result<Scene> scene = load_scene_source(scene_name, a.allow_outside_scene_dir);
   if (!scene.ok()) return fail(scene.status().message(), scene.status().exit_code());
   Result<int> camera = resolve_camera(*scene, a.camera);
   if (!camera.ok()) return fail(camera.status().message(), camera.status().exit_code());
@@ -323,26 +317,30 @@ int do_render(const RenderArgs& a) {
     const std::string image_file = name_of(names.image);
     Image color = box_downsample(r->framebuffer.color, k);
     if (*exposure != 0.0f) apply_exposure(color, exposure_scale);
-    OutputSet out;
-    s = write_image(out.temp_for(image_file), color);
-    if (!s.ok())
-      return (progress.clear(), fail(s.with_context(image_file).message(), s.exit_code()));
+    // Every output of the frame is written in full to its temporary, then all are renamed.
+    StagedFiles out;
+    auto stage = [&out](const std::string& file, const Result<std::vector<unsigned char>>& bytes) {
+      if (!bytes.ok()) return bytes.status();
+      return out.stage(
+          file, std::string_view(reinterpret_cast<const char*>(bytes->data()), bytes->size()));
+    };
+    s = stage(image_file, encode_image(image_file, color));
+    if (!s.ok()) return (progress.clear(), fail(s.message(), s.exit_code()));
     for (const auto& [name, pattern] : names.aovs) {
       const std::string file = name_of(pattern);
-      const std::string tmp = out.temp_for(file);
       if (name == "depth") {
-        s = write_plane(tmp, point_downsample(r->framebuffer.depth, k));
+        s = stage(file, encode_plane(file, point_downsample(r->framebuffer.depth, k)));
       } else {
         for (int i = 0; i < kAovCount; ++i)
           if (name == kAovNames[i])
-            s = write_image(tmp,
-                            point_downsample(r->framebuffer.aov_image(static_cast<Aov>(i)), k));
+            s = stage(file,
+                      encode_image(file, point_downsample(
+                                             r->framebuffer.aov_image(static_cast<Aov>(i)), k)));
       }
-      if (!s.ok()) return (progress.clear(), fail(file + ": " + s.message(), s.exit_code()));
+      if (!s.ok()) return (progress.clear(), fail(s.message(), s.exit_code()));
     }
     if (!names.stats.empty()) {
       const std::string file = name_of(names.stats);
-      const std::string tmp = out.temp_for(file);
       RenderOptions shown = opt;
       shown.width /= k;
       shown.height /= k;
@@ -359,8 +357,8 @@ int do_render(const RenderArgs& a) {
         j["pose"]["deformed_vertices"] = ps.vertices;
         j["pose"]["refitted_meshes"] = ps.refitted_meshes;
       }
-      s = write_text_atomic(tmp, j.dump(2) + "\n");
-      if (!s.ok()) return (progress.clear(), fail(file + ": cannot write statistics", 1));
+      s = out.stage(file, j.dump(2) + "\n");
+      if (!s.ok()) return (progress.clear(), fail(s.message(), s.exit_code()));
     }
     s = out.commit();
     if (!s.ok()) return (progress.clear(), fail(s.message(), s.exit_code()));
@@ -400,6 +398,7 @@ void register_render(CLI::App& app, Action& action) {
   sub->add_option("-o,--output", a->output, "Output image (.png 8-bit sRGB, .exr float, .tif)")
       ->required();
   sub->add_option("--size", a->size, "Image size WxH")->capture_default_str();
+  sub->add_flag("--allow-outside-scene-dir", a->allow_outside_scene_dir, kAllowOutsideSceneDirHelp);
   sub->add_option("--threads", a->threads, "Worker threads, 0 = all cores")->capture_default_str();
   sub->add_option("--tile-size", a->tile_size, "Tile size in pixels (even, 8..512)")
       ->capture_default_str();

@@ -1,34 +1,26 @@
 #include "apps/output.h"
 
-#include <unistd.h>
-
-#include <cstdio>
-#include <filesystem>
-#include <fstream>
 #include <regex>
 
+#include "rasterizer/output_file.h"
 #include "rasterizer/pipeline.h"
+#include "rasterizer/safe_file.h"
+#include "scene/image_io.h"
 
 namespace relief::cli {
 
 Status write_text_atomic(const std::string& path, const std::string& text) {
-  const std::string tmp = path + ".tmp." + std::to_string(::getpid());
-  {
-    std::ofstream f(tmp, std::ios::binary);
-    if (!f) return Status::error(path + ": cannot write (check the directory exists and is writable)");
-    f << text;
-    f.flush();
-    if (!f) {
-      std::remove(tmp.c_str());
-      return Status::error(path + ": write failed");
-    }
-  }
-  std::error_code ec;
-  std::filesystem::rename(tmp, path, ec);
-  if (ec) {
-    std::remove(tmp.c_str());
-    return Status::error(path + ": cannot rename into place: " + ec.message());
-  }
+  return write_file_atomic(path, text);
+}
+
+Status OutputCheck::add(const std::string& option, const std::string& path, Kind kind) {
+  RELIEF_RETURN_IF_ERROR(check_output_path(path));
+  if (kind == Kind::kImage) RELIEF_RETURN_IF_ERROR(check_image_extension(path));
+  const std::string id = output_identity(path);
+  auto [it, fresh] = seen_.emplace(id, std::make_pair(option, path));
+  if (!fresh)
+    return Status::usage(option + ": '" + printable(path) + "' is the same file as " +
+                         it->second.first + " '" + printable(it->second.second) + "'");
   return {};
 }
 

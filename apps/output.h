@@ -1,14 +1,31 @@
-// Small output helpers for the CLI: atomic text files, size parsing.
+// Small output helpers for the CLI: atomic text files, checking outputs before work, size parsing.
 #pragma once
 
+#include <map>
 #include <string>
 
 #include "rasterizer/status.h"
 
 namespace relief::cli {
 
-// Writes `text` to `path` through a temporary file in the same folder and a rename.
+// Writes `text` to `path` atomically (rasterizer/output_file.h: checked writes, fsync, rename).
 Status write_text_atomic(const std::string& path, const std::string& text);
+
+// The output files of one command, checked before anything is rendered or baked, so that a bad
+// output fails in milliseconds: add() checks that `path` can be written (check_output_path:
+// exit 1, "<path>: directory does not exist", "<path>: is a directory", ...), that an image has
+// a known extension (exit 2, "<path>: unknown image extension '.x', ...") and that no other
+// option names the same file (".", "..", symbolic links resolved; exit 2, "--aov uv: 'a.png' is
+// the same file as --output 'a.png'").
+class OutputCheck {
+ public:
+  enum class Kind { kImage, kAny };
+  Status add(const std::string& option, const std::string& path, Kind kind);
+
+ private:
+  std::map<std::string, std::pair<std::string, std::string>> seen_;  // identity -> option, path
+};
+
 // "WxH" -> width and height, each in 1..kMaxTargetSize, at most kMaxTargetPixels in all.
 Status parse_size(const std::string& text, int& width, int& height);
 inline constexpr long long kMaxTargetPixels = 64LL * 1024 * 1024;

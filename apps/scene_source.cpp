@@ -6,14 +6,18 @@
 
 namespace relief::cli {
 
-std::string default_scene_source() { return default_scene_name(); }
+std::string default_scene_source() {
+  return default_scene_name();
+}
 
-Result<Scene> load_scene_source(const std::string& name) {
+Result<Scene> load_scene_source(const std::string& name, bool allow_outside_scene_dir) {
   const auto ends_with = [&](const char* ext) {
     const std::string e(ext);
     return name.size() > e.size() && name.compare(name.size() - e.size(), e.size(), e) == 0;
   };
-  if (ends_with(".gltf") || ends_with(".glb")) return load_gltf(name);
+  GltfLoadOptions options;
+  options.allow_outside_scene_dir = allow_outside_scene_dir;
+  if (ends_with(".gltf") || ends_with(".glb")) return load_gltf(name, options);
   return make_builtin_scene(name);
 }
 

@@ -39,7 +39,8 @@ constexpr float kMarchSlack = 1.0f + 1.0f / 1024.0f;
 struct Field {
   int w = 0, h = 0;
   bool wrap = false;
-  std::vector<float> d;  // level 0, row-major
+  std::vector<float> d;  // level 0, row-major, each in [0, 1]
+  float deepest = 0.0f;  // max of d
 
   float at(int x, int y) const { return d[static_cast<size_t>(y) * w + x]; }
   // Depth of the nearest-texel cell (x, y) of the tiled plane (wrap) or clamped to the border.
@@ -163,8 +164,15 @@ Field read_field(const Texture& depth, bool wrap) {
   f.h = depth.height(0);
   f.wrap = wrap;
   f.d.resize(static_cast<size_t>(f.w) * f.h);
+  // Depth maps hold [0, 1] (loaders clamp files with a warning); a texture made in code that
+  // does not is clamped here too (NaN as 0), so every march below ends within the map's depth.
   for (int y = 0; y < f.h; ++y)
-    for (int x = 0; x < f.w; ++x) f.d[static_cast<size_t>(y) * f.w + x] = depth.fetch_r(0, x, y);
+    for (int x = 0; x < f.w; ++x) {
+      const float v = depth.fetch_r(0, x, y);
+      const float c = v > 0.0f ? (v < 1.0f ? v : 1.0f) : 0.0f;
+      f.d[static_cast<size_t>(y) * f.w + x] = c;
+      f.deepest = std::max(f.deepest, c);
+    }
   return f;
 }
 
@@ -172,6 +180,9 @@ Field read_field(const Texture& depth, bool wrap) {
 // the surface, or 0 if it does not before t_cap. Cells are walked exactly: crossing k along x is
 // at t = 1 + (k + 1/2) / |ox|.
 float relaxed_exit(const Field& f, int x, int y, int ox, int oy, float dj, float t_cap) {
+  // Past t = deepest / dj the ray is below every texel and cannot come out: the same answer (0)
+  // without walking there (a bound on the walk whatever t_cap is).
+  if (dj > 0.0f) t_cap = std::min(t_cap, f.deepest / dj * kMarchSlack);
   int cx = x + ox, cy = y + oy;
   const int sx = ox > 0 ? 1 : (ox < 0 ? -1 : 0);
   const int sy = oy > 0 ? 1 : (oy < 0 ? -1 : 0);

@@ -1,11 +1,14 @@
 #include "plugins/registry.h"
 
 #include <dlfcn.h>
+#include <unistd.h>
 
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
 #include <sstream>
+
+#include "rasterizer/safe_file.h"
 
 namespace relief {
 
@@ -60,8 +63,8 @@ Status check_schema(const PluginDescriptor& p) {
     if (static_cast<int>(s.type) > static_cast<int>(ParamType::kEnum))
       return Status::error(named + " has an unknown type " + std::to_string(int(s.type)));
     if (!std::isfinite(s.default_value) || !std::isfinite(s.min_value) ||
-        !std::isfinite(s.max_value) || s.min_value > s.max_value ||
-        s.default_value < s.min_value || s.default_value > s.max_value)
+        !std::isfinite(s.max_value) || s.min_value > s.max_value || s.default_value < s.min_value ||
+        s.default_value > s.max_value)
       return Status::error(named + ": expected finite min <= default <= max");
     if (s.type == ParamType::kInt && (s.min_value < -16777216.0f || s.max_value > 16777216.0f))
       return Status::error(named + ": an int range must lie in -16777216..16777216");
@@ -118,19 +121,29 @@ Status PluginRegistry::add(const PluginDescriptor* p) {
 }
 
 Status PluginRegistry::load(const std::string& path) {
+  // Only a regular file is handed to dlopen (dlopen of a FIFO blocks, of a device reads it); a
+  // bare name that is no file here keeps dlopen's library search.
+  {
+    Result<SafeFd> file = open_regular_file(path);
+    const bool search = path.find('/') == std::string::npos && ::access(path.c_str(), F_OK) != 0;
+    if (!file.ok() && !search) return file.status();
+  }
   void* handle = dlopen(path.c_str(), RTLD_NOW | RTLD_LOCAL);
   if (!handle) {
     const char* err = dlerror();
-    return Status::error(path + ": cannot load plugin: " + (err ? err : "unknown error"));
+    std::string why = err ? err : "unknown error";
+    for (char& c : why)
+      if (c == '\n' || c == '\r') c = ' ';
+    return Status::error(printable(path) + ": cannot load plugin: " + printable(why, 160));
   }
   using Entry = const PluginDescriptor* (*)();
   auto entry = reinterpret_cast<Entry>(dlsym(handle, "relief_plugin_entry"));
   if (!entry) {
     dlclose(handle);
-    return Status::error(path + ": not a relief plugin (no relief_plugin_entry symbol)");
+    return Status::error(printable(path) + ": not a relief plugin (no relief_plugin_entry symbol)");
   }
   // The handle stays open for the life of the process: descriptors point into it.
-  return add(entry()).with_context(path);
+  return add(entry()).with_context(printable(path));
 }
 
 int param_index(const PluginDescriptor& plugin, const char* name) {
@@ -173,10 +186,16 @@ std::string printable(const std::string& t) {
 std::string range_text(const ParamSpec& p) {
   std::ostringstream os;
   switch (p.type) {
-    case ParamType::kBool: return "true|false";
-    case ParamType::kEnum: return p.choices ? p.choices : "";
-    case ParamType::kInt: os << static_cast<long>(p.min_value) << ".." << static_cast<long>(p.max_value); break;
-    case ParamType::kFloat: os << p.min_value << ".." << p.max_value; break;
+    case ParamType::kBool:
+      return "true|false";
+    case ParamType::kEnum:
+      return p.choices ? p.choices : "";
+    case ParamType::kInt:
+      os << static_cast<long>(p.min_value) << ".." << static_cast<long>(p.max_value);
+      break;
+    case ParamType::kFloat:
+      os << p.min_value << ".." << p.max_value;
+      break;
   }
   return os.str();
 }
@@ -191,6 +210,20 @@ Status check_value(const PluginDescriptor& plugin, const ParamSpec& p, float v) 
     std::ostringstream os;
     os << where << ": " << v << " is outside " << range_text(p);
     return Status::error(os.str());
+  }
+  if (p.type == ParamType::kBool && v != 0.0f && v != 1.0f) {
+    std::ostringstream os;
+    os << where << ": expected true or false, got " << v;
+    return Status::error(os.str());
+  }
+  if (p.type == ParamType::kEnum) {
+    const size_t n = split_choices(p.choices).size();
+    if (v != std::floor(v) || v < 0.0f || v >= static_cast<float>(n)) {
+      std::ostringstream os;
+      os << where << ": expected one of " << range_text(p) << " (or its index 0.." << n - 1
+         << "), got " << v;
+      return Status::error(os.str());
+    }
   }
   return {};
 }
@@ -207,7 +240,8 @@ Result<float> parse_value(const PluginDescriptor& plugin, const ParamSpec& p,
     const auto choices = split_choices(p.choices);
     for (size_t i = 0; i < choices.size(); ++i)
       if (choices[i] == text) return static_cast<float>(i);
-    return Status::usage(where + ": expected one of " + range_text(p) + ", got '" + printable(text) + "'");
+    return Status::usage(where + ": expected one of " + range_text(p) + ", got '" +
+                         printable(text) + "'");
   }
   char* end = nullptr;
   errno = 0;
@@ -231,7 +265,8 @@ Result<std::vector<float>> resolve_params(const PluginDescriptor& plugin,
   for (const auto& [name, v] : overrides) {
     const int i = param_index(plugin, name.c_str());
     if (i < 0)
-      return Status::error(std::string(plugin.name) + " has no parameter '" + printable(name) + "'");
+      return Status::error(std::string(plugin.name) + " has no parameter '" + printable(name) +
+                           "'");
     RELIEF_RETURN_IF_ERROR(check_value(plugin, plugin.params[i], v));
     values[i] = v;
   }
@@ -245,6 +280,52 @@ Result<std::vector<float>> resolve_params(const PluginDescriptor& plugin,
     values[i] = *v;
   }
   return values;
+}
+
+Result<float> resolve_param_value(const PluginDescriptor& plugin, const std::string& name,
+                                  const ParamValue& value) {
+  const int i = param_index(plugin, name.c_str());
+  if (i < 0)
+    return Status::error(std::string(plugin.name) + " has no parameter '" + printable(name) + "'");
+  const ParamSpec& p = plugin.params[i];
+  const std::string where = std::string(plugin.name) + " parameter '" + p.name + "'";
+  std::ostringstream shown;
+  switch (value.kind) {
+    case ParamValue::Kind::kNumber:
+      shown << value.number;
+      break;
+    case ParamValue::Kind::kBool:
+      shown << (value.boolean ? "true" : "false");
+      break;
+    case ParamValue::Kind::kText:
+      shown << '"' << printable(value.text.substr(0, 60)) << (value.text.size() > 60 ? "..." : "")
+            << '"';
+      break;
+  }
+  if (p.type == ParamType::kBool) {
+    if (value.kind == ParamValue::Kind::kBool) return value.boolean ? 1.0f : 0.0f;
+    if (value.kind == ParamValue::Kind::kNumber && (value.number == 0.0 || value.number == 1.0))
+      return static_cast<float>(value.number);
+    return Status::error(where + ": expected true or false, got " + shown.str());
+  }
+  if (p.type == ParamType::kEnum) {
+    const auto choices = split_choices(p.choices);
+    if (value.kind == ParamValue::Kind::kText)
+      for (size_t c = 0; c < choices.size(); ++c)
+        if (choices[c] == value.text) return static_cast<float>(c);
+    if (value.kind == ParamValue::Kind::kNumber && value.number == std::floor(value.number) &&
+        value.number >= 0.0 && value.number < static_cast<double>(choices.size()))
+      return static_cast<float>(value.number);
+    return Status::error(where + ": expected one of " + range_text(p) + " (or its index 0.." +
+                         std::to_string(choices.size() - 1) + "), got " + shown.str());
+  }
+  if (value.kind != ParamValue::Kind::kNumber)
+    return Status::error(where + ": expected a number, got " + shown.str());
+  if (!std::isfinite(value.number) || std::abs(value.number) > 3.4e38)
+    return Status::error(where + ": " + shown.str() + " is outside " + range_text(p));
+  const float v = static_cast<float>(value.number);
+  RELIEF_RETURN_IF_ERROR(check_value(plugin, p, v));
+  return v;
 }
 
 std::string describe_params(const PluginDescriptor& plugin) {
@@ -261,8 +342,8 @@ std::string describe_params(const PluginDescriptor& plugin) {
     } else {
       os << p.default_value;
     }
-    const char* type = p.type == ParamType::kFloat ? "float"
-                       : p.type == ParamType::kInt ? "int"
+    const char* type = p.type == ParamType::kFloat  ? "float"
+                       : p.type == ParamType::kInt  ? "int"
                        : p.type == ParamType::kBool ? "bool"
                                                     : "enum";
     os << "  (" << type << ", " << range_text(p) << ")  " << (p.help ? p.help : "") << "\n";

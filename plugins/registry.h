@@ -32,7 +32,19 @@ class PluginRegistry {
 Result<std::vector<float>> resolve_params(const PluginDescriptor& plugin,
                                           const std::map<std::string, float>& overrides,
                                           const std::map<std::string, std::string>& text_overrides);
-int param_index(const PluginDescriptor& plugin, const char* name);  // -1 if absent
+// One parameter value as a scene file types it (JSON): checked by the same rules as --param text,
+// typed: a bool takes true or false (or the numbers 1 and 0, as --param takes "1" and "0"); an
+// enum its choice name or the choice's index (0..n-1, as Material::params holds it); an int or
+// float a number in the schema's range. Errors (exit 1) name the plugin and the parameter.
+struct ParamValue {
+  enum class Kind { kNumber, kBool, kText } kind = Kind::kNumber;
+  double number = 0.0;
+  bool boolean = false;
+  std::string text;
+};
+Result<float> resolve_param_value(const PluginDescriptor& plugin, const std::string& name,
+                                  const ParamValue& value);
+int param_index(const PluginDescriptor& plugin, const char* name);         // -1 if absent
 int texture_slot_index(const PluginDescriptor& plugin, const char* name);  // -1 if absent
 // An enum's choices "a|b|c" as {"a", "b", "c"} (empty for nullptr).
 std::vector<std::string> split_choices(const char* choices);

@@ -5,6 +5,7 @@
 
 #include <unistd.h>
 
+#include <cerrno>
 #include <chrono>
 #include <cmath>
 #include <cstdint>
@@ -19,6 +20,8 @@
 #include <vector>
 
 #include "bake/cone_map.h"
+#include "rasterizer/output_file.h"
+#include "rasterizer/safe_file.h"
 
 namespace relief {
 namespace {
@@ -75,28 +78,50 @@ void warn(const std::string& what) {
 }
 
 // Reads a cache file; false (with `why`) when it is missing or does not hold exactly `want`.
+// Only a regular file of exactly the expected size is read (a FIFO or a device in its place is
+// refused without blocking: rasterizer/safe_file.h).
 bool read_cache(const fs::path& path, const Header& want, ConeRatios& out, std::string& why) {
-  std::ifstream f(path, std::ios::binary);
-  if (!f) {
+  std::error_code ec;
+  if (!fs::exists(fs::symlink_status(path, ec)) && !fs::exists(path, ec)) {
     why.clear();  // simply not there yet
     return false;
   }
-  Header h;
-  f.read(reinterpret_cast<char*>(&h), sizeof h);
   const size_t n = static_cast<size_t>(want.width) * want.height * want.channels;
+  const uint64_t expected = sizeof(Header) + static_cast<uint64_t>(n) * 4;
+  uint64_t size = 0;
+  Result<SafeFd> fd = open_regular_file(path.string(), &size, UINT64_MAX);
+  if (!fd.ok()) {
+    why = fd.status().message() + ", cone-map cache file ignored (rebaking)";
+    return false;
+  }
+  if (size != expected) {
+    why = printable(path.string()) + ": corrupt or stale cone-map cache file, ignored (rebaking)";
+    return false;
+  }
+  Header h;
   out.values.resize(n);
-  f.read(reinterpret_cast<char*>(out.values.data()), static_cast<std::streamsize>(n * 4));
-  const bool complete = static_cast<bool>(f) && f.peek() == std::char_traits<char>::eof();
+  const auto read_all = [&](void* dst, size_t bytes) {
+    size_t got = 0;
+    while (got < bytes) {
+      const ssize_t r = ::read(fd->get(), static_cast<char*>(dst) + got, bytes - got);
+      if (r < 0 && errno == EINTR) continue;
+      if (r <= 0) return false;
+      got += static_cast<size_t>(r);
+    }
+    return true;
+  };
+  const bool complete = read_all(&h, sizeof h) && read_all(out.values.data(), n * 4);
   if (!complete || std::memcmp(h.magic, want.magic, 8) != 0 || h.version != want.version ||
       h.kind != want.kind || h.wrap != want.wrap || h.width != want.width ||
       h.height != want.height || h.channels != want.channels || h.max_ratio != want.max_ratio ||
       h.key != want.key || h.payload_hash != payload_hash(out.values)) {
-    why = path.string() + ": corrupt or stale cone-map cache file, ignored (rebaking)";
+    why = printable(path.string()) + ": corrupt or stale cone-map cache file, ignored (rebaking)";
     return false;
   }
   for (float v : out.values)
     if (!(v >= 0.0f && v <= want.max_ratio)) {
-      why = path.string() + ": cone-map cache file holds out-of-range ratios, ignored (rebaking)";
+      why = printable(path.string()) +
+            ": cone-map cache file holds out-of-range ratios, ignored (rebaking)";
       return false;
     }
   out.width = static_cast<int>(want.width);
@@ -105,31 +130,17 @@ bool read_cache(const fs::path& path, const Header& want, ConeRatios& out, std::
   return true;
 }
 
-// Writes a cache file through a temporary and a rename; a warning on failure.
+// Writes a cache file atomically (rasterizer/output_file.h: checked writes, fsync, rename); a
+// warning on failure, never an error.
 void write_cache(const fs::path& path, Header h, const ConeRatios& r) {
   std::error_code ec;
   fs::create_directories(path.parent_path(), ec);
-  const fs::path tmp = path.string() + ".tmp" + std::to_string(::getpid());
   h.payload_hash = payload_hash(r.values);
-  bool ok = false;
-  {
-    std::ofstream f(tmp, std::ios::binary | std::ios::trunc);
-    f.write(reinterpret_cast<const char*>(&h), sizeof h);
-    f.write(reinterpret_cast<const char*>(r.values.data()),
-            static_cast<std::streamsize>(r.values.size() * 4));
-    f.close();
-    ok = static_cast<bool>(f);
-  }
-  if (!ok) {
-    fs::remove(tmp, ec);
-    warn(path.parent_path().string() + ": cannot write the cone-map cache (continuing without)");
-    return;
-  }
-  fs::rename(tmp, path, ec);
-  if (ec) {
-    fs::remove(tmp, ec);
-    warn(path.string() + ": cannot write the cone-map cache (continuing without)");
-  }
+  std::string bytes(sizeof h + r.values.size() * 4, '\0');
+  std::memcpy(bytes.data(), &h, sizeof h);
+  if (!r.values.empty()) std::memcpy(bytes.data() + sizeof h, r.values.data(), r.values.size() * 4);
+  const Status s = write_file_atomic(path.string(), bytes);
+  if (!s.ok()) warn(s.message() + " (the cone-map cache; continuing without)");
 }
 
 std::mutex g_mutex;

@@ -7,12 +7,14 @@
 #include <tiny_gltf.h>
 #include <unistd.h>
 
+#include <OpenImageIO/filesystem.h>
 #include <OpenImageIO/imageio.h>
 
 #include <algorithm>
 #include <atomic>
 #include <charconv>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -31,7 +33,10 @@
 
 #include "bake/normal_map.h"
 #include "plugins/registry.h"
+#include "rasterizer/output_file.h"
+#include "rasterizer/safe_file.h"
 #include "scene/animation.h"
+#include "scene/gltf_validate.h"
 #include "scene/image_io.h"
 #include "scene/mesh_prep.h"
 
@@ -150,12 +155,16 @@ struct PrimitiveKey {
 
 class Reader {
  public:
-  Reader(std::string path, tinygltf::Model& model) : path_(std::move(path)), m_(model) {
+  // json_text: the document's JSON as it is in the file (a .gltf's text, a .glb's JSON chunk),
+  // for checks that need what tinygltf drops or defaults.
+  Reader(std::string path, tinygltf::Model& model, std::string json_text)
+      : path_(std::move(path)), m_(model), json_text_(std::move(json_text)) {
     base_dir_ = fs::path(path_).parent_path().string();
   }
 
   Result<Scene> read() {
     scene_.name = fs::path(path_).stem().string();
+    // json_text_ passed validate_gltf_text (schema, hierarchy, draw limits) in load_gltf.
     RELIEF_RETURN_IF_ERROR(check_required_extensions());
     RELIEF_RETURN_IF_ERROR(read_root_extension());
     for (size_t i = 0; i < m_.materials.size(); ++i) {
@@ -173,6 +182,7 @@ class Reader {
     }
     RELIEF_RETURN_IF_ERROR(place_cameras());
     RELIEF_RETURN_IF_ERROR(read_animation());
+    warn_unsupported_extensions();
     return std::move(scene_);
   }
 
@@ -187,8 +197,10 @@ class Reader {
     glm::dmat4 world;
   };
 
+  // Pointer and text kept on one line and short (names and keys come from the file).
   Status fail(const std::string& pointer, const std::string& what) const {
-    return Status::error(path_ + ": " + pointer + ": " + what);
+    return Status::error(path_ + ": " + one_line_text(pointer, 100) + ": " +
+                         one_line_text(what, 180));
   }
 
   // ---- JSON helpers for extension objects ----
@@ -216,7 +228,8 @@ class Reader {
       if (std::find(known.begin(), known.end(), it.key()) == known.end()) {
         std::string list;
         for (const auto& k : known) list += (list.empty() ? "" : ", ") + k;
-        return fail(pointer + "/" + it.key(), "unknown property (expected one of " + list + ")");
+        return fail(pointer + "/" + pointer_token(it.key()),
+                    "unknown property (expected one of " + list + ")");
       }
     }
     return {};
@@ -291,6 +304,18 @@ class Reader {
         return fail("/extensionsRequired/" + std::to_string(i),
                     "required extension '" + m_.extensionsRequired[i] + "' is not supported");
     return {};
+  }
+
+  // glTF says to ignore an extension that is used but not required: one warning line names those
+  // relief lacks (printed only for a scene that loads, so an error stays the only line).
+  void warn_unsupported_extensions() const {
+    const std::set<std::string> supported = {kReliefExtension, kTextureTransform, kLightsPunctual};
+    std::string ignored;
+    for (const std::string& e : m_.extensionsUsed)
+      if (!supported.count(e)) ignored += (ignored.empty() ? "'" : ", '") + e + "'";
+    if (ignored.empty()) return;
+    std::fprintf(stderr, "relief: warning: %s: /extensionsUsed: not supported, ignored: %s\n",
+                 one_line_text(path_, 200).c_str(), one_line_text(ignored, 160).c_str());
   }
 
   Status read_root_extension() {
@@ -428,11 +453,16 @@ class Reader {
     opt.color_space = use == TexUse::kColor ? ColorSpace::kSRGB : ColorSpace::kLinear;
     opt.first_channel_only = use == TexUse::kDepth || use == TexUse::kHeight;
     opt.height_to_depth = use == TexUse::kHeight;
+    opt.unit_range = opt.first_channel_only;
     Result<Texture> t = Status::error("no image");
     if (!img.uri.empty() && img.uri.rfind("data:", 0) != 0) {
-      // An external file, read by path so that errors name it.
-      const std::string file = (fs::path(base_dir_) / decode_uri(img.uri)).string();
-      t = load_texture(file, opt);
+      // An external file: resolved in the scene's folder (safe_file.h), only a regular file is
+      // read, then decoded from memory; errors name the path as the scene gives it.
+      Result<ResolvedUri> file = resolve_scene_uri(folder_, img.uri);
+      if (!file.ok()) return fail(ip + "/uri", file.status().message());
+      Result<std::string> bytes = read_regular_file(file->real);
+      if (!bytes.ok()) return fail(ip + "/uri", renamed(bytes.status().message(), *file));
+      t = load_texture_from_memory(std::move(*bytes), printable(file->path), opt);
       if (!t.ok()) return fail(ip + "/uri", t.status().message());
     } else {
       t = decode_in_memory(img, opt);
@@ -445,58 +475,29 @@ class Reader {
     return ptr;
   }
 
-  static std::string decode_uri(const std::string& uri) {
-    std::string out;
-    for (size_t i = 0; i < uri.size(); ++i) {
-      if (uri[i] == '%' && i + 2 < uri.size() && std::isxdigit(uchar(uri[i + 1])) &&
-          std::isxdigit(uchar(uri[i + 2]))) {
-        out += static_cast<char>(std::stoi(uri.substr(i + 1, 2), nullptr, 16));
-        i += 2;
-      } else {
-        out += uri[i];
-      }
-    }
-    return out;
-  }
-  static unsigned char uchar(char c) { return static_cast<unsigned char>(c); }
+ public:
+  // Where the scene's URIs resolve (load_gltf sets it from its options).
+  void set_scene_folder(SceneFolder folder) { folder_ = std::move(folder); }
 
-  // Embedded images (GLB buffer views, data URIs): OpenImageIO reads files, so the bytes pass
-  // through a private temporary file that is removed at once.
+ private:
+  SceneFolder folder_;
+
+  // A message about `file.real` (symlinks resolved) made to name `file.path`, as the scene does.
+  static std::string renamed(const std::string& message, const ResolvedUri& file) {
+    const std::string real = printable(file.real) + ": ";
+    if (message.rfind(real, 0) != 0) return message;
+    return printable(file.path) + ": " + message.substr(real.size());
+  }
+
+  // Embedded images (GLB buffer views, data URIs), decoded from memory (nothing is written).
   static Result<Texture> decode_in_memory(const tinygltf::Image& img,
                                           const TextureLoadOptions& opt) {
     const std::vector<unsigned char>& bytes = img.image;
     if (bytes.empty()) return Status::error("image data is empty");
-    std::string ext;
-    if (bytes.size() >= 8 && std::memcmp(bytes.data(), "\x89PNG\r\n\x1a\n", 8) == 0)
-      ext = ".png";
-    else if (bytes.size() >= 3 && bytes[0] == 0xff && bytes[1] == 0xd8 && bytes[2] == 0xff)
-      ext = ".jpg";
-    else
-      return Status::error("embedded image is neither PNG nor JPEG");
-    static std::atomic<unsigned> counter{0};
-    const fs::path tmp =
-        fs::temp_directory_path() / ("relief_gltf_" + std::to_string(::getpid()) + "_" +
-                                     std::to_string(counter.fetch_add(1)) + ext);
-    {
-      std::ofstream f(tmp, std::ios::binary);
-      f.write(reinterpret_cast<const char*>(bytes.data()),
-              static_cast<std::streamsize>(bytes.size()));
-      if (!f) {
-        std::error_code ec;
-        fs::remove(tmp, ec);
-        return Status::error("cannot write a temporary file in " + tmp.parent_path().string());
-      }
-    }
-    Result<Texture> t = load_texture(tmp.string(), opt);
-    std::error_code ec;
-    fs::remove(tmp, ec);
-    if (!t.ok()) {
-      std::string msg = t.status().message();
-      const std::string prefix = tmp.string() + ": ";
-      if (msg.rfind(prefix, 0) == 0) msg = msg.substr(prefix.size());
-      return Status::error("embedded image: " + msg);
-    }
-    return t;
+    const bool png = bytes.size() >= 8 && std::memcmp(bytes.data(), "\x89PNG\r\n\x1a\n", 8) == 0;
+    const bool jpeg = bytes.size() >= 3 && bytes[0] == 0xff && bytes[1] == 0xd8 && bytes[2] == 0xff;
+    if (!png && !jpeg) return Status::error("embedded image is neither PNG nor JPEG");
+    return load_texture_from_memory(std::string(bytes.begin(), bytes.end()), "embedded image", opt);
   }
 
   // ---- materials ----
@@ -632,17 +633,29 @@ class Reader {
         const std::string pp = ep + "/params";
         if (!ps.is_object()) return fail(pp, "expected an object of parameter values");
         for (auto it = ps.begin(); it != ps.end(); ++it) {
-          const std::string p = pp + "/" + it.key();
+          const std::string p = pp + "/" + pointer_token(it.key());
           if (param_pointer.count(it.key()))
             return fail(p, "given twice (also at " + param_pointer[it.key()] + ")");
-          float v = 0.0f;
-          if (it->is_boolean())
-            v = it->get<bool>() ? 1.0f : 0.0f;
-          else if (it->is_number())
-            v = static_cast<float>(it->get<double>());
-          else
-            return fail(p, "expected a number or a boolean, got " + it->dump());
-          mat.params[it.key()] = v;
+          // Typed as the declaring technique's schema says, by the rules --param applies.
+          ParamValue pv;
+          if (it->is_boolean()) {
+            pv.kind = ParamValue::Kind::kBool;
+            pv.boolean = it->get<bool>();
+          } else if (it->is_number()) {
+            pv.number = it->get<double>();
+          } else if (it->is_string()) {
+            pv.kind = ParamValue::Kind::kText;
+            pv.text = it->get<std::string>();
+          } else {
+            const char* got = it->is_array() ? "an array" : it->is_object() ? "an object" : "null";
+            return fail(p,
+                        std::string("expected a number, a boolean or a choice name, got ") + got);
+          }
+          const PluginDescriptor* by = declaring_plugin(mat.technique, it.key());
+          if (!by) return fail(p, "no technique has a parameter '" + it.key() + "'");
+          Result<float> v = resolve_param_value(*by, it.key(), pv);
+          if (!v.ok()) return fail(p, v.status().message());
+          mat.params[it.key()] = *v;
           param_pointer[it.key()] = p;
         }
       }
@@ -712,16 +725,20 @@ class Reader {
 
   // Each parameter is checked by the material's technique when it declares it, otherwise by a
   // technique that does (parameters of other techniques apply when --technique switches).
+  static const PluginDescriptor* declaring_plugin(const std::string& technique,
+                                                  const std::string& name) {
+    const PluginRegistry& reg = PluginRegistry::global();
+    if (const PluginDescriptor* own = reg.find(technique);
+        own && param_index(*own, name.c_str()) >= 0)
+      return own;
+    for (const PluginDescriptor* p : reg.all())
+      if (param_index(*p, name.c_str()) >= 0) return p;
+    return nullptr;
+  }
   Status check_params(const Material& mat,
                       const std::map<std::string, std::string>& pointers) const {
-    const PluginRegistry& reg = PluginRegistry::global();
     for (const auto& [name, value] : mat.params) {
-      const PluginDescriptor* by = nullptr;
-      if (const PluginDescriptor* own = reg.find(mat.technique);
-          own && param_index(*own, name.c_str()) >= 0)
-        by = own;
-      for (const PluginDescriptor* p : reg.all())
-        if (!by && param_index(*p, name.c_str()) >= 0) by = p;
+      const PluginDescriptor* by = declaring_plugin(mat.technique, name);
       const std::string& where = pointers.at(name);
       if (!by) return fail(where, "no technique has a parameter '" + name + "'");
       Result<std::vector<float>> r = resolve_params(*by, {{name, value}}, {});
@@ -1084,28 +1101,48 @@ class Reader {
     std::vector<bool> seen(m_.nodes.size(), false);
     int order = 0;
     node_parent_.assign(m_.nodes.size(), -1);
-    std::function<Status(int, const glm::dmat4&, const std::string&, int)> visit =
-        [&](int index, const glm::dmat4& parent, const std::string& ref,
-            int parent_index) -> Status {
+    // Depth first with an explicit stack (a file may nest thousands of nodes), children pushed
+    // in reverse so that nodes are visited in the order a recursive walk would take.
+    struct Visit {
+      int index, parent_index, depth;
+      glm::dmat4 parent;
+      std::string ref;  // JSON pointer of the reference to the node
+    };
+    std::vector<Visit> stack;
+    const auto& roots = m_.scenes[si].nodes;
+    for (size_t r = roots.size(); r-- > 0;)
+      stack.push_back({roots[r], -1, 1, glm::dmat4(1.0),
+                       "/scenes/" + std::to_string(si) + "/nodes/" + std::to_string(r)});
+    while (!stack.empty()) {
+      Visit v = std::move(stack.back());
+      stack.pop_back();
+      const int index = v.index;
       if (index < 0 || index >= static_cast<int>(m_.nodes.size()))
-        return fail(ref, "node " + std::to_string(index) + " does not exist");
+        return fail(v.ref, "node " + std::to_string(index) + " does not exist");
       const std::string np = "/nodes/" + std::to_string(index);
       if (seen[index])
-        return fail(ref,
+        return fail(v.ref,
                     "node " + std::to_string(index) + " is reached twice (a cycle or two parents)");
+      if (v.depth > kMaxNodeDepth)
+        return fail(np, "node is " + std::to_string(v.depth) +
+                            " levels deep in the hierarchy, more than the limit of " +
+                            std::to_string(kMaxNodeDepth));
       seen[index] = true;
       const tinygltf::Node& n = m_.nodes[index];
       Result<glm::dmat4> local = local_matrix(index);
       if (!local.ok()) return local.status();
-      const glm::dmat4 world = parent * *local;
+      const glm::dmat4 world = v.parent * *local;
       if (n.skin >= 0 && n.skin >= static_cast<int>(m_.skins.size()))
         return fail(np + "/skin", "skin " + std::to_string(n.skin) + " does not exist");
       if (n.skin >= 0 && n.mesh < 0) return fail(np + "/skin", "a skin needs a mesh on its node");
-      node_parent_[index] = parent_index;
+      node_parent_[index] = v.parent_index;
       if (n.mesh >= 0) {
         if (n.mesh >= static_cast<int>(m_.meshes.size()))
           return fail(np + "/mesh", "mesh " + std::to_string(n.mesh) + " does not exist");
         const auto& prims = m_.meshes[n.mesh].primitives;
+        if (prims.empty())
+          return fail("/meshes/" + std::to_string(n.mesh) + "/primitives",
+                      "a mesh needs at least one primitive");
         for (size_t k = 0; k < prims.size(); ++k) {
           int mat = prims[k].material;
           if (mat >= static_cast<int>(materials_.size()))
@@ -1120,6 +1157,10 @@ class Reader {
             if (default_material_ < 0) default_material_ = static_cast<int>(materials_.size());
             mat = default_material_;
           }
+          if (scene_.instances.size() >= kMaxSceneInstances)
+            return fail("/scenes/" + std::to_string(si),
+                        "more than " + std::to_string(kMaxSceneInstances) +
+                            " mesh instances (node and primitive pairs), the limit");
           instance_nodes_.push_back({index, static_cast<int>(scene_.instances.size())});
           scene_.instances.push_back({*mesh, mat, glm::mat4(world)});
         }
@@ -1130,16 +1171,10 @@ class Reader {
         camera_nodes_.push_back({n.camera, index, order++, world});
       }
       RELIEF_RETURN_IF_ERROR(read_node_light(index, world));
-      for (size_t c = 0; c < n.children.size(); ++c)
-        RELIEF_RETURN_IF_ERROR(
-            visit(n.children[c], world, np + "/children/" + std::to_string(c), index));
-      return {};
-    };
-    const auto& roots = m_.scenes[si].nodes;
-    for (size_t r = 0; r < roots.size(); ++r)
-      RELIEF_RETURN_IF_ERROR(visit(roots[r], glm::dmat4(1.0),
-                                   "/scenes/" + std::to_string(si) + "/nodes/" + std::to_string(r),
-                                   -1));
+      for (size_t c = n.children.size(); c-- > 0;)
+        stack.push_back(
+            {n.children[c], index, v.depth + 1, world, np + "/children/" + std::to_string(c)});
+    }
     return {};
   }
 
@@ -1468,6 +1503,7 @@ class Reader {
   std::string path_;
   std::string base_dir_;
   tinygltf::Model& m_;
+  std::string json_text_;
   Scene scene_;
   std::vector<MaterialInfo> materials_;
   int default_material_ = -1;
@@ -1484,8 +1520,8 @@ class Reader {
 // Keeps the encoded bytes; decoding happens in Reader::texture through OpenImageIO. `user` is
 // the model being loaded: tinygltf hands over an image's bufferView bytes without checking that
 // the view lies inside its buffer, so that is checked here before anything is read.
-bool keep_image_bytes(tinygltf::Image* image, const int index, std::string* err, std::string*,
-                      int, int, const unsigned char* bytes, int size, void* user) {
+bool keep_image_bytes(tinygltf::Image* image, const int index, std::string* err, std::string*, int,
+                      int, const unsigned char* bytes, int size, void* user) {
   const auto* model = static_cast<const tinygltf::Model*>(user);
   if (size < 0) {
     if (err) *err = "/images/" + std::to_string(index) + ": negative or huge byte length";
@@ -1495,9 +1531,10 @@ bool keep_image_bytes(tinygltf::Image* image, const int index, std::string* err,
     const size_t v = static_cast<size_t>(image->bufferView);
     const bool view_ok = v < model->bufferViews.size();
     const tinygltf::BufferView* view = view_ok ? &model->bufferViews[v] : nullptr;
-    const bool buffer_ok = view && view->buffer >= 0 &&
-                           static_cast<size_t>(view->buffer) < model->buffers.size();
-    const size_t have = buffer_ok ? model->buffers[static_cast<size_t>(view->buffer)].data.size() : 0;
+    const bool buffer_ok =
+        view && view->buffer >= 0 && static_cast<size_t>(view->buffer) < model->buffers.size();
+    const size_t have =
+        buffer_ok ? model->buffers[static_cast<size_t>(view->buffer)].data.size() : 0;
     if (!buffer_ok || view->byteOffset > have || view->byteLength > have - view->byteOffset) {
       if (err)
         *err = "/bufferViews/" + std::to_string(image->bufferView) +
@@ -1505,6 +1542,9 @@ bool keep_image_bytes(tinygltf::Image* image, const int index, std::string* err,
       return false;
     }
   }
+  // An external file's bytes are not kept: Reader::texture reads it again under the folder
+  // rule, so that its errors name the image's JSON pointer.
+  if (!image->uri.empty() && image->uri.rfind("data:", 0) != 0) return true;
   image->image.assign(bytes, bytes + size);
   return true;
 }
@@ -1519,36 +1559,278 @@ bool has_suffix(const std::string& s, const char* suffix) {
 
 }  // namespace
 
-Result<Scene> load_gltf(const std::string& path) {
-  std::error_code ec;
-  if (!fs::exists(path, ec)) return Status::error(path + ": no such file");
-  if (fs::is_directory(path, ec)) return Status::error(path + ": is a directory, not a glTF file");
-  if (has_suffix(path, ".glb")) {
-    // The GLB header (magic, version, total length) first, for a clearer error than tinygltf's.
-    std::ifstream f(path, std::ios::binary);
-    uint32_t header[3] = {0, 0, 0};
-    f.read(reinterpret_cast<char*>(header), sizeof header);
-    const uintmax_t size = fs::file_size(path, ec);
-    if (f.gcount() < 12 || header[0] != 0x46546C67u)
-      return Status::error(path + ": not a GLB file (no 'glTF' header)");
-    if (header[1] != 2)
-      return Status::error(path + ": GLB version " + std::to_string(header[1]) + ", expected 2");
-    if (size < header[2])
-      return Status::error(path + ": truncated GLB: the header gives " + std::to_string(header[2]) +
-                           " bytes, the file has " + std::to_string(size));
+namespace {
+
+// The whole file as bytes: a regular file only (never a FIFO or a device), at most
+// kMaxInputFileBytes (rasterizer/safe_file.h).
+Result<std::string> read_scene_file(const std::string& path) {
+  return read_regular_file(path);
+}
+
+// tinygltf reads external buffers and images through these (FsCallbacks): every path it asks
+// for is the scene's folder joined with a decoded URI, which must pass the folder rule and name
+// a regular file; nothing else is opened (not its fallback to the working directory either).
+struct SceneFs {
+  SceneFolder folder;
+  std::string prefix;  // what tinygltf puts before a URI: "<folder>/", or "" for no folder
+  // Decoded URIs (as tinygltf decodes them) that only images use: tinygltf gets one dummy byte
+  // for them, as Reader::texture reads and checks each image itself (no file is read twice).
+  std::set<std::string> image_only;
+  // The URI part of a path tinygltf built; false for one not under the folder (its "." retry).
+  bool reference(const std::string& abs, std::string& ref) const {
+    if (abs.compare(0, prefix.size(), prefix) != 0) return false;
+    ref = abs.substr(prefix.size());
+    return true;
   }
+  Result<ResolvedUri> resolve(const std::string& abs) const {
+    std::string ref;
+    if (!reference(abs, ref)) return Status::error("not in the scene's folder");
+    return resolve_scene_path(folder, ref);
+  }
+};
+
+bool fs_exists(const std::string& abs, void* user) {
+  const auto* sfs = static_cast<const SceneFs*>(user);
+  std::string ref;
+  if (sfs->reference(abs, ref) && sfs->image_only.count(ref)) return true;
+  Result<ResolvedUri> r = sfs->resolve(abs);
+  if (!r.ok()) return false;
+  return open_regular_file(r->real).ok();
+}
+
+std::string fs_expand(const std::string& path, void*) {
+  return path;
+}
+
+bool fs_read(std::vector<unsigned char>* out, std::string* err, const std::string& abs,
+             void* user) {
+  const auto* sfs = static_cast<const SceneFs*>(user);
+  std::string ref;
+  if (sfs->reference(abs, ref) && sfs->image_only.count(ref)) {
+    out->assign(1, 0);
+    return true;
+  }
+  Result<ResolvedUri> r = sfs->resolve(abs);
+  if (!r.ok()) {
+    if (err) *err = r.status().message();
+    return false;
+  }
+  Result<std::string> bytes = read_regular_file(r->real);
+  if (!bytes.ok()) {
+    if (err) *err = "cannot read";
+    return false;
+  }
+  out->assign(bytes->begin(), bytes->end());
+  return true;
+}
+
+bool fs_write(std::string* err, const std::string&, const std::vector<unsigned char>&, void*) {
+  if (err) *err = "writing is not allowed while loading";
+  return false;
+}
+
+// tinygltf's data: URI headers for buffers (DecodeDataURI).
+bool known_data_header(const std::string& h) {
+  static const char* known[] = {"data:application/octet-stream;base64,",
+                                "data:application/gltf-buffer;base64,",
+                                "data:image/jpeg;base64,",
+                                "data:image/png;base64,",
+                                "data:image/bmp;base64,",
+                                "data:image/gif;base64,",
+                                "data:text/plain;base64,"};
+  for (const char* k : known)
+    if (h == k) return true;
+  return false;
+}
+
+// The byte count a base64 payload decodes to; -1 when it is not base64.
+long long base64_size(std::string_view b64) {
+  size_t n = b64.size();
+  size_t pad = 0;
+  while (n > 0 && b64[n - 1] == '=' && pad < 2) --n, ++pad;
+  for (size_t i = 0; i < n; ++i) {
+    const auto c = static_cast<unsigned char>(b64[i]);
+    if (!std::isalnum(c) && c != '+' && c != '/') return -1;
+  }
+  if ((n + pad) % 4 != 0 && pad != 0) return -1;
+  return static_cast<long long>(n * 6 / 8);
+}
+
+// Every buffer's URI, checked before tinygltf reads any (so its messages, which echo whole URIs
+// and the sizes of the files they reach, are never needed): a data: URI must decode to
+// byteLength bytes; an external file must pass the folder rule, be a regular file and hold
+// byteLength bytes (the file's size is printed only when it lies in the scene's folder).
+// A URI decoded as tinygltf does (dlib::urldecode: '+' is a space).
+std::string tinygltf_decoded(const std::string& uri) {
+  auto hex = [](char c) -> int {
+    if (c >= '0' && c <= '9') return c - '0';
+    if (c >= 'a' && c <= 'f') return c - 'a' + 10;
+    if (c >= 'A' && c <= 'F') return c - 'A' + 10;
+    return -1;
+  };
+  std::string out;
+  for (size_t i = 0; i < uri.size(); ++i) {
+    if (uri[i] == '+') {
+      out += ' ';
+    } else if (uri[i] == '%' && uri.size() > i + 2) {
+      const int hi = hex(uri[i + 1]), lo = hex(uri[i + 2]);
+      if (hi < 0 || lo < 0) return {};  // not worth matching: tinygltf reads it as usual
+      out += static_cast<char>(hi * 16 + lo);
+      i += 2;
+    } else {
+      out += uri[i];
+    }
+  }
+  return out;
+}
+
+// The decoded external URIs of images that no buffer shares (SceneFs::image_only).
+std::set<std::string> image_only_uris(const json& doc) {
+  std::set<std::string> images, buffers;
+  for (const char* key : {"images", "buffers"}) {
+    const auto it = doc.find(key);
+    if (it == doc.end() || !it->is_array()) continue;
+    for (const json& e : *it) {
+      if (!e.is_object()) continue;
+      const auto u = e.find("uri");
+      if (u == e.end() || !u->is_string()) continue;
+      const std::string& uri = u->get_ref<const std::string&>();
+      if (uri.rfind("data:", 0) == 0) continue;
+      (std::strcmp(key, "images") == 0 ? images : buffers).insert(tinygltf_decoded(uri));
+    }
+  }
+  images.erase(std::string());
+  for (const std::string& b : buffers) images.erase(b);
+  return images;
+}
+
+Status check_buffers(const std::string& shown, const std::string& json_text,
+                     const SceneFolder& folder, std::set<std::string>* image_only) {
+  const json doc = json::parse(json_text, nullptr, false);
+  if (doc.is_discarded() || !doc.is_object()) return Status();  // tinygltf says why
+  *image_only = image_only_uris(doc);
+  const auto it = doc.find("buffers");
+  if (it == doc.end() || !it->is_array()) return Status();
+  for (size_t i = 0; i < it->size(); ++i) {
+    const json& b = (*it)[i];
+    if (!b.is_object()) continue;
+    const auto u = b.find("uri");
+    if (u == b.end() || !u->is_string()) continue;
+    const std::string& uri = u->get_ref<const std::string&>();
+    const std::string bp = shown + ": /buffers/" + std::to_string(i) + "/uri: ";
+    const auto l = b.find("byteLength");
+    const bool has_length = l != b.end() && l->is_number_unsigned();
+    const unsigned long long length = has_length ? l->get<unsigned long long>() : 0;
+    if (uri.rfind("data:", 0) == 0) {
+      const size_t comma = uri.find(',');
+      if (comma == std::string::npos || !known_data_header(uri.substr(0, comma + 1)))
+        return Status::error(bp +
+                             "unsupported data URI (expected "
+                             "data:application/octet-stream;base64,...)");
+      const long long n = base64_size(std::string_view(uri).substr(comma + 1));
+      if (n < 0) return Status::error(bp + "data URI is not valid base64");
+      if (has_length && static_cast<unsigned long long>(n) != length)
+        return Status::error(bp + "data URI holds " + std::to_string(n) + " bytes, byteLength is " +
+                             std::to_string(length));
+      continue;
+    }
+    Result<ResolvedUri> r = resolve_scene_uri(folder, uri);
+    if (!r.ok()) return Status::error(bp + r.status().message());
+    uint64_t size = 0;
+    Result<SafeFd> fd = open_regular_file(r->real, &size);
+    if (!fd.ok()) {
+      std::string msg = fd.status().message();
+      const std::string real = printable(r->real) + ": ";
+      if (msg.rfind(real, 0) == 0) msg = printable(r->path) + ": " + msg.substr(real.size());
+      return Status::error(bp + msg);
+    }
+    if (has_length && size != length) {
+      if (r->inside)
+        return Status::error(bp + printable(r->path) + ": file is " + std::to_string(size) +
+                             " bytes, byteLength is " + std::to_string(length));
+      return Status::error(bp + printable(r->path) + ": file size differs from byteLength " +
+                           std::to_string(length));
+    }
+  }
+  return Status();
+}
+
+// tinygltf's error text made one line under 300 characters: data: URIs cut short, control
+// bytes escaped.
+std::string tinygltf_message(const std::string& err) {
+  std::string s = one_line(err);
+  for (size_t at = s.find("data:"); at != std::string::npos; at = s.find("data:", at + 1)) {
+    size_t end = at;
+    while (end < s.size() && s[end] != ' ' && s[end] != '\'' && s[end] != '"') ++end;
+    if (end - at > 40) s.replace(at + 40, end - at - 40, "...");
+  }
+  return printable(s, 200);
+}
+
+// The JSON chunk of a GLB whose 12-byte header has been checked; empty when there is none.
+std::string glb_json_chunk(const std::string& bytes) {
+  if (bytes.size() < 20) return {};
+  uint32_t length = 0, type = 0;
+  std::memcpy(&length, bytes.data() + 12, 4);
+  std::memcpy(&type, bytes.data() + 16, 4);
+  if (type != 0x4E4F534Au || length > bytes.size() - 20) return {};
+  return bytes.substr(20, length);
+}
+
+}  // namespace
+
+Result<Scene> load_gltf(const std::string& path, const GltfLoadOptions& options) {
+  const std::string shown = printable(path);
+  Result<std::string> bytes = read_scene_file(path);
+  if (!bytes.ok()) return bytes.status();
+  const bool glb = has_suffix(path, ".glb");
+  std::string json_text;
+  if (glb) {
+    // The GLB header (magic, version, total length) first, for a clearer error than tinygltf's.
+    uint32_t header[3] = {0, 0, 0};
+    if (bytes->size() >= 12) std::memcpy(header, bytes->data(), 12);
+    if (bytes->size() < 12 || header[0] != 0x46546C67u)
+      return Status::error(shown + ": not a GLB file (no 'glTF' header)");
+    if (header[1] != 2)
+      return Status::error(shown + ": GLB version " + std::to_string(header[1]) + ", expected 2");
+    if (bytes->size() < header[2])
+      return Status::error(shown + ": truncated GLB: the header gives " +
+                           std::to_string(header[2]) + " bytes, the file has " +
+                           std::to_string(bytes->size()));
+    json_text = glb_json_chunk(*bytes);
+  } else {
+    json_text = *bytes;
+  }
+  if (bytes->size() > std::numeric_limits<unsigned int>::max())
+    return Status::error(shown + ": file is larger than 4 GiB");
+  SceneFs scene_fs;
+  scene_fs.folder.dir = fs::path(path).parent_path().string();
+  scene_fs.folder.allow_outside = options.allow_outside_scene_dir;
+  RELIEF_RETURN_IF_ERROR(check_buffers(shown, json_text, scene_fs.folder, &scene_fs.image_only));
+  // The schema, hierarchy and draw limits on the JSON as written, before tinygltf (which recurses
+  // on deep JSON and drops or defaults what it dislikes) reads it (scene/gltf_validate.h).
+  RELIEF_RETURN_IF_ERROR(validate_gltf_text(json_text, shown));
   tinygltf::TinyGLTF loader;
   tinygltf::Model model;
+  const std::string base_dir = scene_fs.folder.dir;
+  scene_fs.prefix = base_dir.empty() ? "" : (base_dir.back() == '/' ? base_dir : base_dir + "/");
+  tinygltf::FsCallbacks callbacks{fs_exists, fs_expand, fs_read, fs_write, &scene_fs};
+  loader.SetFsCallbacks(callbacks);
   loader.SetImageLoader(keep_image_bytes, &model);
   loader.SetStoreOriginalJSONForExtrasAndExtensions(true);
   std::string err, warn;
+  const auto length = static_cast<unsigned int>(bytes->size());
   bool ok = false;
-  if (has_suffix(path, ".glb"))
-    ok = loader.LoadBinaryFromFile(&model, &err, &warn, path);
+  if (glb)
+    ok = loader.LoadBinaryFromMemory(&model, &err, &warn,
+                                     reinterpret_cast<const unsigned char*>(bytes->data()), length,
+                                     base_dir);
   else
-    ok = loader.LoadASCIIFromFile(&model, &err, &warn, path);
-  if (!ok) return Status::error(path + ": " + (err.empty() ? "cannot parse" : one_line(err)));
-  Reader reader(path, model);
+    ok = loader.LoadASCIIFromString(&model, &err, &warn, bytes->data(), length, base_dir);
+  if (!ok)
+    return Status::error(shown + ": " + (err.empty() ? "cannot parse" : tinygltf_message(err)));
+  Reader reader(path, model, std::move(json_text));
+  reader.set_scene_folder(scene_fs.folder);
   return reader.read();
 }
 
@@ -1586,12 +1868,6 @@ class Writer {
     const fs::path p(path_);
     dir_ = p.parent_path().empty() ? fs::path(".") : p.parent_path();
     stem_ = p.stem().string();
-  }
-  ~Writer() {
-    for (const auto& [tmp, final_path] : files_) {
-      std::error_code ec;
-      fs::remove(tmp, ec);
-    }
   }
 
   Status write() {
@@ -1645,30 +1921,19 @@ class Writer {
       RELIEF_RETURN_IF_ERROR(write_file(fs::path(path_).filename().string(),
                                         std::vector<uint8_t>(text.begin(), text.end())));
     }
-    for (auto& [tmp, final_path] : files_) {
-      fs::rename(tmp, final_path, ec);
-      if (ec)
-        return Status::error(final_path.string() + ": cannot rename into place: " + ec.message());
-    }
-    files_.clear();
-    return {};
+    return staged_.commit();  // every file was written in full: rename them all into place
   }
 
  private:
-  Status fail(const std::string& what) const { return Status::error(path_ + ": " + what); }
+  Status fail(const std::string& what) const {
+    return Status::error(printable(path_) + ": " + what);
+  }
 
+  // Stages `name` in the output's folder (checked writes, fsync); renamed by write() at the end.
   Status write_file(const std::string& name, const std::vector<uint8_t>& bytes) {
-    static std::atomic<unsigned> counter{0};
-    const fs::path final_path = dir_ / name;
-    const fs::path tmp = dir_ / ("." + name + ".tmp" + std::to_string(::getpid()) + "_" +
-                                 std::to_string(counter.fetch_add(1)));
-    files_.emplace_back(tmp, final_path);
-    std::ofstream f(tmp, std::ios::binary);
-    f.write(reinterpret_cast<const char*>(bytes.data()),
-            static_cast<std::streamsize>(bytes.size()));
-    f.close();
-    if (!f) return Status::error(final_path.string() + ": cannot write");
-    return {};
+    const std::string final_path = (fs::path(path_).parent_path() / name).string();
+    return staged_.stage(
+        final_path, std::string_view(reinterpret_cast<const char*>(bytes.data()), bytes.size()));
   }
 
   size_t add_view(const void* data, size_t bytes, int target) {
@@ -1734,22 +1999,15 @@ class Writer {
           for (int c = 0; c < 3; ++c) px[i * 3 + c] = src[i * 4 + c];
       }
     }
-    static std::atomic<unsigned> counter{0};
-    const fs::path tmp =
-        fs::temp_directory_path() / ("relief_gltf_out_" + std::to_string(::getpid()) + "_" +
-                                     std::to_string(counter.fetch_add(1)) + ".png");
+    // Encoded in memory: no temporary file, every byte written by write_file's checked writes.
     OIIO::ImageSpec spec(t.width(), t.height(), ch, type);
     spec.attribute("png:compressionLevel", 9);
-    std::unique_ptr<OIIO::ImageOutput> out = OIIO::ImageOutput::create("png");
-    bool ok = out && out->open(tmp.string(), spec) && out->write_image(type, px.data());
-    if (out) ok = out->close() && ok;
     std::vector<uint8_t> bytes;
-    if (ok) {
-      std::ifstream f(tmp, std::ios::binary);
-      bytes.assign(std::istreambuf_iterator<char>(f), std::istreambuf_iterator<char>());
-    }
-    std::error_code ec;
-    fs::remove(tmp, ec);
+    OIIO::Filesystem::IOVecOutput proxy(bytes);
+    std::unique_ptr<OIIO::ImageOutput> out = OIIO::ImageOutput::create("png");
+    bool ok = out && out->supports("ioproxy") && out->set_ioproxy(&proxy) &&
+              out->open(stem_ + ".png", spec) && out->write_image(type, px.data());
+    if (out) ok = out->close() && ok;
     if (!ok || bytes.empty()) return fail(what + ": cannot encode PNG");
     return bytes;
   }
@@ -1763,9 +2021,14 @@ class Writer {
       img["bufferView"] = add_view(png->data(), png->size(), 0);
       img["mimeType"] = "image/png";
     } else {
-      std::string name = stem_ + "_" + label + ".png";
-      for (char& c : name)
+      std::string base = stem_ + "_" + label;
+      for (char& c : base)
         if (!std::isalnum(static_cast<unsigned char>(c)) && c != '.' && c != '-') c = '_';
+      base = base.substr(0, 200);  // a file name stays under NAME_MAX with its temporary's suffix
+      // Two labels can sanitise to one name (materials of one name): each file its own name.
+      std::string name = base + ".png";
+      for (int n = 2; !file_names_.insert(name).second; ++n)
+        name = base + "_" + std::to_string(n) + ".png";
       img["uri"] = name;
       RELIEF_RETURN_IF_ERROR(write_file(name, *png));
     }
@@ -1993,14 +2256,15 @@ class Writer {
   std::set<std::string> used_;
   std::map<const Texture*, int> images_;
   std::map<int, int> samplers_;
-  std::vector<std::pair<fs::path, fs::path>> files_;  // temporary -> final
+  std::set<std::string> file_names_;  // PNG names given out
+  StagedFiles staged_;                // the .bin, PNGs and .gltf/.glb, renamed at the end
 };
 
 }  // namespace
 
 Status save_gltf(const Scene& scene, const std::string& path) {
   if (!has_suffix(path, ".gltf") && !has_suffix(path, ".glb"))
-    return Status::usage(path + ": expected a .gltf or .glb file name");
+    return Status::usage(printable(path) + ": expected a .gltf or .glb file name");
   Writer w(scene, path);
   return w.write();
 }

@@ -25,9 +25,18 @@ namespace relief {
 
 inline constexpr const char* kReliefExtension = "RELIEF_relief_mapping";
 
+struct GltfLoadOptions {
+  // Buffer and image URIs may lead outside the scene file's folder (`..`, symlinks):
+  // `--allow-outside-scene-dir`. Schemes, absolute paths and control bytes stay refused.
+  bool allow_outside_scene_dir = false;
+};
+
 // Loads a .gltf or .glb file. Relief techniques and parameters are checked against the plugin
 // registry (PluginRegistry::global()), so external plugins must be loaded before.
-Result<Scene> load_gltf(const std::string& path);
+// Input safety (docs/errors.md, "The scene folder rule", "Only regular files"): the file, its
+// buffers and images are read only when they are regular files (at most kMaxInputFileBytes);
+// URIs are relative references (or data: URIs) that resolve inside the file's folder.
+Result<Scene> load_gltf(const std::string& path, const GltfLoadOptions& options = {});
 
 // Writes `scene` as glTF: .gltf (JSON, a .bin buffer and one PNG per texture next to it, named
 // after the file's stem) or .glb (everything embedded). Textures must be 8-bit (R8, RG8, RGBA8) or

@@ -2,8 +2,10 @@
 // and atomically writing linear float images and planes.
 #include "scene/image_io.h"
 
+#include <sys/mman.h>
 #include <unistd.h>
 
+#include <OpenImageIO/filesystem.h>
 #include <OpenImageIO/imageio.h>
 
 #include <algorithm>
@@ -11,11 +13,17 @@
 #include <cctype>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <cstring>
 #include <filesystem>
 #include <memory>
+#include <mutex>
 #include <string>
 #include <vector>
+
+#include "rasterizer/output_file.h"
+
+#include "rasterizer/safe_file.h"
 
 namespace relief {
 namespace {
@@ -58,25 +66,128 @@ uint16_t to_u16(double v) {
 
 enum class Depth { k8, k16, kHalf, kFloat };
 
-// An opened input whose size has been checked.
+// An opened input whose size has been checked. The reader only ever sees `bytes` (read from a
+// checked regular file, or handed over in memory) through `proxy`: it never opens a path.
 struct Input {
+  std::string bytes;
+  std::unique_ptr<OIIO::Filesystem::IOMemReader> proxy;
   std::unique_ptr<OIIO::ImageInput> in;
   int width = 0;
   int height = 0;
   int channels = 0;
   Depth depth = Depth::kFloat;
+  ~Input() {
+    in.reset();  // before the proxy and the bytes it reads
+    proxy.reset();
+  }
 };
 
-Status open_input(const std::string& path, Input& out) {
-  std::error_code ec;
-  if (!fs::exists(path, ec)) return fail(path, "no such file");
-  if (fs::is_directory(path, ec)) return fail(path, "is a directory, not an image");
+bool starts_with(const std::string& b, const char* magic, size_t n) {
+  return b.size() >= n && std::memcmp(b.data(), magic, n) == 0;
+}
+
+// The OpenImageIO reader for `bytes`, from their magic number (the file name's extension only
+// for TGA, which has none); nullptr when it is none of the formats read from memory.
+const char* format_of(const std::string& b, const std::string& name) {
+  if (starts_with(b, "\x89PNG\r\n\x1a\n", 8)) return "png";
+  if (starts_with(b, "\xff\xd8\xff", 3)) return "jpeg";
+  if (starts_with(b, "\x76\x2f\x31\x01", 4)) return "openexr";
+  if (starts_with(b, "II*\0", 4) || starts_with(b, "MM\0*", 4) || starts_with(b, "II+\0", 4) ||
+      starts_with(b, "MM\0+", 4))
+    return "tiff";
+  if (starts_with(b, "#?RADIANCE", 10) || starts_with(b, "#?RGBE", 6)) return "hdr";
+  if (starts_with(b, "BM", 2)) return "bmp";
+  if (starts_with(b, "GIF8", 4)) return "gif";
+  if (starts_with(b, "8BPS", 4)) return "psd";
+  if (starts_with(b, "DDS ", 4)) return "dds";
+  if (b.size() >= 12 && starts_with(b, "RIFF", 4) && std::memcmp(b.data() + 8, "WEBP", 4) == 0)
+    return "webp";
+  if (b.size() >= 2 && b[0] == 'P' && std::strchr("123456fF", b[1]) != nullptr && b[1] != '\0')
+    return "pnm";
+  const size_t dot = name.rfind('.');
+  if (dot != std::string::npos && name.size() - dot == 4) {
+    std::string ext = name.substr(dot);
+    for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    if (ext == ".tga") return "targa";
+  }
+  return nullptr;
+}
+
+// First lines that libpng (through OpenImageIO) would print on stderr during a decode are
+// caught here, so that nothing but relief's own one line reaches the terminal; the first is
+// kept for the error message. Loads are serialised around the capture.
+class StderrCapture {
+ public:
+  StderrCapture() {
+    std::fflush(stderr);
+    const int fd = ::memfd_create("relief_stderr", MFD_CLOEXEC);
+    file_ = fd >= 0 ? ::fdopen(fd, "w+") : nullptr;
+    if (fd >= 0 && !file_) ::close(fd);
+    saved_ = file_ ? ::dup(2) : -1;
+    if (saved_ >= 0) ::dup2(::fileno(file_), 2);
+  }
+  ~StderrCapture() { release(); }
+  // Restores fd 2; the first line written meanwhile (empty if none).
+  std::string release() {
+    std::string first;
+    if (saved_ >= 0) {
+      std::fflush(stderr);
+      ::dup2(saved_, 2);
+      ::close(saved_);
+      saved_ = -1;
+      std::rewind(file_);
+      char line[256];
+      if (std::fgets(line, sizeof line, file_)) first = line;
+    }
+    if (file_) {
+      std::fclose(file_);
+      file_ = nullptr;
+    }
+    return first;
+  }
+
+ private:
+  std::FILE* file_ = nullptr;
+  int saved_ = -1;
+};
+
+std::mutex& decode_mutex() {
+  static std::mutex m;
+  return m;
+}
+
+// Opens `in.bytes` (already filled) for `path` (the name used in messages).
+// `max_texels`: kMaxTextureTexels for textures, kMaxImageTexels for read_image.
+Status open_bytes(const std::string& path, Input& out, long long max_texels) {
+  if (out.bytes.empty()) return fail(path, "cannot read image: the file is empty");
+  const char* format = format_of(out.bytes, path);
+  if (!format)
+    return fail(path,
+                "cannot read image: not a PNG, JPEG, EXR, TIFF, HDR, BMP, GIF, PSD, DDS, "
+                "WebP, PNM or TGA file");
+  out.in = OIIO::ImageInput::create(format);
+  if (!out.in || !out.in->supports("ioproxy"))
+    return fail(path, std::string("cannot read image: no ") + format + " reader");
+  out.proxy = std::make_unique<OIIO::Filesystem::IOMemReader>(out.bytes.data(), out.bytes.size());
+  out.in->set_ioproxy(out.proxy.get());
   // Keep alpha unassociated: texture alpha is data (depth, heights), never premultiplied.
   OIIO::ImageSpec config;
   config.attribute("oiio:UnassociatedAlpha", 1);
-  out.in = OIIO::ImageInput::open(path, &config);
-  if (!out.in) return fail(path, "cannot read image: " + one_line(OIIO::geterror()));
-  const OIIO::ImageSpec& spec = out.in->spec();
+  OIIO::ImageSpec spec;
+  bool opened = false;
+  std::string noise;
+  {
+    std::lock_guard<std::mutex> lock(decode_mutex());
+    StderrCapture capture;
+    opened = out.in->open(path, spec, config);
+    noise = capture.release();
+  }
+  if (!opened) {
+    std::string why = out.in->geterror();
+    if (why.empty()) why = noise;
+    out.in.reset();
+    return fail(path, "cannot read image: " + printable(one_line(why), 160));
+  }
   if (spec.width <= 0 || spec.height <= 0)
     return fail(path, "image is " + std::to_string(spec.width) + "x" + std::to_string(spec.height) +
                           ", expected at least 1x1");
@@ -84,12 +195,14 @@ Status open_input(const std::string& path, Input& out) {
     return fail(path, "image is " + std::to_string(spec.width) + "x" + std::to_string(spec.height) +
                           ", larger than the limit of " + std::to_string(kMaxImageSide) +
                           " on a side");
-  if (static_cast<long long>(spec.width) * spec.height > kMaxImageTexels)
+  if (static_cast<long long>(spec.width) * spec.height > max_texels)
     return fail(path, "image is " + std::to_string(spec.width) + "x" + std::to_string(spec.height) +
-                          ", more than the limit of " + std::to_string(kMaxImageTexels) +
-                          " texels");
+                          ", more than the limit of " + std::to_string(max_texels) + " texels" +
+                          (max_texels == kMaxTextureTexels ? " for a texture" : ""));
   if (spec.depth > 1) return fail(path, "volume images are not supported");
   if (spec.nchannels < 1) return fail(path, "image has no channels");
+  if (spec.nchannels > 64)
+    return fail(path, "image has " + std::to_string(spec.nchannels) + " channels, more than 64");
   out.width = spec.width;
   out.height = spec.height;
   out.channels = spec.nchannels;
@@ -112,10 +225,29 @@ Status open_input(const std::string& path, Input& out) {
   return Status();
 }
 
+// Reads a regular file (never a FIFO or device, at most kMaxInputFileBytes) and opens it.
+Status open_input(const std::string& path, Input& out, long long max_texels) {
+  Result<std::string> bytes = read_regular_file(path);
+  if (!bytes.ok()) return bytes.status();
+  out.bytes = std::move(*bytes);
+  return open_bytes(printable(path), out, max_texels);
+}
+
 // Reads channels [0, nch) of subimage 0, level 0 as `type`.
 Status read_pixels(const std::string& path, Input& in, int nch, OIIO::TypeDesc type, void* data) {
-  if (!in.in->read_image(0, 0, 0, nch, type, data))
-    return fail(path, "cannot decode image: " + one_line(in.in->geterror()));
+  bool ok = false;
+  std::string noise;
+  {
+    std::lock_guard<std::mutex> lock(decode_mutex());
+    StderrCapture capture;
+    ok = in.in->read_image(0, 0, 0, nch, type, data);
+    noise = capture.release();
+  }
+  if (!ok) {
+    std::string why = in.in->geterror();
+    if (why.empty()) why = noise;
+    return fail(path, "cannot decode image: " + printable(one_line(why), 160));
+  }
   return Status();
 }
 
@@ -126,52 +258,33 @@ std::string lower_extension(const std::string& path) {
   return ext;
 }
 
-// Writes `pixels` (type, channels, channel names) to a temporary next to `path`, then renames it.
-Status write_atomic(const std::string& path, const char* oiio_format, OIIO::ImageSpec spec,
-                    const void* pixels) {
-  static std::atomic<unsigned> counter{0};
-  std::error_code ec;
-  const fs::path target(path);
-  if (target.filename().empty()) return fail(path, "not a file name");
-  fs::path dir = target.parent_path();
-  if (dir.empty()) dir = ".";
-  if (!fs::is_directory(dir, ec)) return fail(path, "directory does not exist");
-  const fs::path tmp =
-      dir / ("." + target.filename().string() + ".tmp" + std::to_string(::getpid()) + "_" +
-             std::to_string(counter.fetch_add(1)) + target.extension().string());
-  auto cleanup = [&tmp] {
-    std::error_code ignored;
-    fs::remove(tmp, ignored);
-  };
+// Encodes `pixels` (type, channels, channel names) as `oiio_format` in memory: OpenImageIO never
+// touches the disk, so every byte of the file is written (and checked) by output_file.h.
+Result<std::vector<unsigned char>> encode_pixels(const std::string& path, const char* oiio_format,
+                                                 const OIIO::ImageSpec& spec, const void* pixels) {
+  std::vector<unsigned char> bytes;
+  OIIO::Filesystem::IOVecOutput proxy(bytes);
   std::unique_ptr<OIIO::ImageOutput> out = OIIO::ImageOutput::create(oiio_format);
   if (!out)
     return fail(path, std::string("no ") + oiio_format + " writer: " + one_line(OIIO::geterror()));
-  if (!out->open(tmp.string(), spec)) {
-    const std::string err = one_line(out->geterror());
-    out.reset();
-    cleanup();
-    return fail(path, "cannot write: " + err);
-  }
-  if (!out->write_image(spec.format, pixels)) {
-    const std::string err = one_line(out->geterror());
-    out->close();
-    out.reset();
-    cleanup();
-    return fail(path, "cannot write: " + err);
-  }
-  if (!out->close()) {
-    const std::string err = one_line(out->geterror());
-    out.reset();
-    cleanup();
-    return fail(path, "cannot write: " + err);
-  }
-  out.reset();
-  fs::rename(tmp, target, ec);
-  if (ec) {
-    cleanup();
-    return fail(path, "cannot write: " + ec.message());
-  }
-  return Status();
+  if (!out->supports("ioproxy") || !out->set_ioproxy(&proxy))
+    return fail(path, std::string("the ") + oiio_format + " writer cannot encode to memory");
+  bool ok = out->open(path, spec) && out->write_image(spec.format, pixels);
+  ok = out->close() && ok;
+  if (!ok) return fail(path, "cannot encode image: " + one_line(out->geterror()));
+  if (bytes.empty()) return fail(path, "cannot encode image: the encoder wrote nothing");
+  return bytes;
+}
+
+std::string_view as_text(const std::vector<unsigned char>& bytes) {
+  return std::string_view(reinterpret_cast<const char*>(bytes.data()), bytes.size());
+}
+
+Status unknown_extension(const std::string& path, const std::string& ext) {
+  if (ext.empty())
+    return Status::usage(path + ": no image extension, expected .png, .exr, .tif or .tiff");
+  return Status::usage(path + ": unknown image extension '" + printable(ext, 16) +
+                       "', expected .png, .exr, .tif or .tiff");
 }
 
 bool image_shape_ok(int w, int h, size_t n) {
@@ -180,11 +293,10 @@ bool image_shape_ok(int w, int h, size_t n) {
 
 }  // namespace
 
-Result<Texture> load_texture(const std::string& path, const TextureLoadOptions& opts) {
-  if (opts.height_to_depth && opts.color_space != ColorSpace::kLinear)
-    return Status::usage(path + ": height_to_depth needs a linear colour space, not sRGB");
-  Input in;
-  RELIEF_RETURN_IF_ERROR(open_input(path, in));
+namespace {
+
+// The texture in an opened input (see load_texture); `path` is the name for messages.
+Result<Texture> texture_from(const std::string& path, Input& in, const TextureLoadOptions& opts) {
   const int src_ch = opts.first_channel_only ? 1 : std::min(in.channels, 4);
   const size_t n = static_cast<size_t>(in.width) * in.height;
   const bool srgb = opts.color_space == ColorSpace::kSRGB;
@@ -221,6 +333,7 @@ Result<Texture> load_texture(const std::string& path, const TextureLoadOptions& 
   if (src_ch == 1) f = in.depth == Depth::kFloat ? TexFormat::kR32F : TexFormat::kR16F;
   const int dst_ch = format_channels(f);
   std::vector<float> values(n * dst_ch, 0.0f);
+  size_t clamped = 0;
   for (size_t i = 0; i < n; ++i) {
     float* d = &values[i * dst_ch];
     if (dst_ch == 4) d[3] = 1.0f;
@@ -230,17 +343,52 @@ Result<Texture> load_texture(const std::string& path, const TextureLoadOptions& 
       d[c] = v;
     }
     if (opts.height_to_depth) d[0] = 1.0f - d[0];
+    if (opts.unit_range) {
+      const float raw = src[i * src_ch];
+      const float v = static_cast<float>(clamp01(d[0]));
+      clamped += v != d[0] || !std::isfinite(raw);
+      d[0] = v;
+    }
   }
+  if (clamped > 0)
+    std::fprintf(stderr,
+                 "relief: warning: %s: %zu of %zu depth texels lie outside [0, 1] or are not "
+                 "finite; clamped\n",
+                 path.c_str(), clamped, n);
   return Texture::from_floats(f, in.width, in.height, values.data());
+}
+
+}  // namespace
+
+Result<Texture> load_texture(const std::string& path, const TextureLoadOptions& opts) {
+  if (opts.height_to_depth && opts.color_space != ColorSpace::kLinear)
+    return Status::usage(printable(path) +
+                         ": height_to_depth needs a linear colour space, not sRGB");
+  Input in;
+  RELIEF_RETURN_IF_ERROR(open_input(path, in, kMaxTextureTexels));
+  return texture_from(printable(path), in, opts);
+}
+
+Result<Texture> load_texture_from_memory(std::string bytes, const std::string& name,
+                                         const TextureLoadOptions& opts) {
+  if (opts.height_to_depth && opts.color_space != ColorSpace::kLinear)
+    return Status::usage(name + ": height_to_depth needs a linear colour space, not sRGB");
+  if (bytes.size() > kMaxInputFileBytes)
+    return Status::error(name + ": image is " + std::to_string(bytes.size()) +
+                         " bytes, more than the limit of " + std::to_string(kMaxInputFileBytes));
+  Input in;
+  in.bytes = std::move(bytes);
+  RELIEF_RETURN_IF_ERROR(open_bytes(name, in, kMaxTextureTexels));
+  return texture_from(name, in, opts);
 }
 
 Result<Image> read_image(const std::string& path) {
   Input in;
-  RELIEF_RETURN_IF_ERROR(open_input(path, in));
+  RELIEF_RETURN_IF_ERROR(open_input(path, in, kMaxImageTexels));
   const int ch = std::min(in.channels, 4);
   const size_t n = static_cast<size_t>(in.width) * in.height;
   std::vector<float> src(n * ch);
-  RELIEF_RETURN_IF_ERROR(read_pixels(path, in, ch, OIIO::TypeDesc::FLOAT, src.data()));
+  RELIEF_RETURN_IF_ERROR(read_pixels(printable(path), in, ch, OIIO::TypeDesc::FLOAT, src.data()));
   const bool srgb = in.depth == Depth::k8;
   const int colour = ch >= 3 ? 3 : 1;  // colour channels; 1 or 2 channels are grey (+ alpha)
   Image img(in.width, in.height);
@@ -258,9 +406,10 @@ Result<Image> read_image(const std::string& path) {
   return img;
 }
 
-Status write_image(const std::string& path, const Image& image) {
+Result<std::vector<unsigned char>> encode_image(const std::string& path, const Image& image) {
+  const std::string name = printable(path);  // in messages
   if (!image_shape_ok(image.width, image.height, image.pixels.size()))
-    return fail(path, "cannot write an empty or malformed image (" + std::to_string(image.width) +
+    return fail(name, "cannot write an empty or malformed image (" + std::to_string(image.width) +
                           "x" + std::to_string(image.height) + ")");
   const std::string ext = lower_extension(path);
   const size_t n = image.pixels.size();
@@ -280,14 +429,14 @@ Status write_image(const std::string& path, const Image& image) {
           const double v = finite_or_zero(image.pixels[i][c]);
           px[i * ch + c] = to_u8(c < 3 ? srgb_encode(clamp01(v)) : v);
         }
-      return write_atomic(path, "png", spec, px.data());
+      return encode_pixels(name, "png", spec, px.data());
     }
     spec.attribute("oiio:ColorSpace", "Linear");
     spec.attribute("compression", "zip");
     std::vector<uint16_t> px(n * ch);
     for (size_t i = 0; i < n; ++i)
       for (int c = 0; c < ch; ++c) px[i * ch + c] = to_u16(finite_or_zero(image.pixels[i][c]));
-    return write_atomic(path, "tiff", spec, px.data());
+    return encode_pixels(name, "tiff", spec, px.data());
   }
   if (ext == ".exr") {
     OIIO::ImageSpec spec(image.width, image.height, 4, OIIO::TypeDesc::FLOAT);
@@ -295,15 +444,15 @@ Status write_image(const std::string& path, const Image& image) {
     std::vector<float> px(n * 4);
     for (size_t i = 0; i < n; ++i)
       for (int c = 0; c < 4; ++c) px[i * 4 + c] = finite_or_zero(image.pixels[i][c]);
-    return write_atomic(path, "openexr", spec, px.data());
+    return encode_pixels(name, "openexr", spec, px.data());
   }
-  return Status::usage(path + ": unknown image extension '" + ext +
-                       "', expected .png, .exr, .tif or .tiff");
+  return unknown_extension(name, ext);
 }
 
-Status write_plane(const std::string& path, const Plane& plane) {
+Result<std::vector<unsigned char>> encode_plane(const std::string& path, const Plane& plane) {
+  const std::string name = printable(path);  // in messages
   if (!image_shape_ok(plane.width, plane.height, plane.values.size()))
-    return fail(path, "cannot write an empty or malformed plane (" + std::to_string(plane.width) +
+    return fail(name, "cannot write an empty or malformed plane (" + std::to_string(plane.width) +
                           "x" + std::to_string(plane.height) + ")");
   const std::string ext = lower_extension(path);
   const size_t n = plane.values.size();
@@ -312,7 +461,7 @@ Status write_plane(const std::string& path, const Plane& plane) {
     spec.channelnames = {"Y"};
     std::vector<float> px(n);
     for (size_t i = 0; i < n; ++i) px[i] = finite_or_zero(plane.values[i]);
-    return write_atomic(path, ext == ".exr" ? "openexr" : "tiff", spec, px.data());
+    return encode_pixels(name, ext == ".exr" ? "openexr" : "tiff", spec, px.data());
   }
   if (ext == ".png") {
     double lo = 0.0, hi = 1.0;
@@ -325,10 +474,27 @@ Status write_plane(const std::string& path, const Plane& plane) {
     std::vector<uint16_t> px(n);
     for (size_t i = 0; i < n; ++i)
       px[i] = to_u16((finite_or_zero(plane.values[i]) - lo) / (hi - lo));
-    return write_atomic(path, "png", spec, px.data());
+    return encode_pixels(name, "png", spec, px.data());
   }
-  return Status::usage(path + ": unknown image extension '" + ext +
-                       "', expected .png, .exr, .tif or .tiff");
+  return unknown_extension(name, ext);
+}
+
+Status check_image_extension(const std::string& path) {
+  const std::string ext = lower_extension(path);
+  if (ext == ".png" || ext == ".exr" || ext == ".tif" || ext == ".tiff") return {};
+  return unknown_extension(printable(path), ext);
+}
+
+Status write_image(const std::string& path, const Image& image) {
+  Result<std::vector<unsigned char>> bytes = encode_image(path, image);
+  if (!bytes.ok()) return bytes.status();
+  return write_file_atomic(path, as_text(*bytes));
+}
+
+Status write_plane(const std::string& path, const Plane& plane) {
+  Result<std::vector<unsigned char>> bytes = encode_plane(path, plane);
+  if (!bytes.ok()) return bytes.status();
+  return write_file_atomic(path, as_text(*bytes));
 }
 
 }  // namespace relief

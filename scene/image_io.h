@@ -7,6 +7,7 @@
 #pragma once
 
 #include <string>
+#include <vector>
 
 #include "rasterizer/image.h"
 #include "rasterizer/status.h"
@@ -15,9 +16,14 @@
 namespace relief {
 
 // Files larger than this on either side, or with more texels in all, are refused when the header
-// is read, before any pixel memory is allocated (docs/errors.md, "Limits").
+// is read, before any pixel memory is allocated (docs/errors.md, "Limits"). kMaxImageTexels
+// holds for read_image (compare: up to an 8192 x 8192 render), kMaxTextureTexels (4096 x 4096)
+// for textures: decoding 64 Mi texels takes about 1.5 s, but mips and the maps derived from a
+// depth texture then took 19 s and 4 GB for an 8192 x 8192 depth map (3 s for colour); at
+// 16 Mi, 5 s and 1.1 GB (1 s for colour).
 inline constexpr int kMaxImageSide = 16384;
 inline constexpr long long kMaxImageTexels = 64LL * 1024 * 1024;
+inline constexpr long long kMaxTextureTexels = 16LL * 1024 * 1024;
 
 struct TextureLoadOptions {
   // kSRGB: colour channels are sRGB-encoded and decode to linear when sampled (8-bit formats keep
@@ -29,14 +35,26 @@ struct TextureLoadOptions {
   // The file holds a height map (1 = top): store depth d = 1 - h in channel 0 (exact for integer
   // formats: 255 - b, 65535 - v). Other channels are left alone.
   bool height_to_depth = false;
+  // Channel 0 is a depth (or height) map, which holds [0, 1]: a float file's values outside it
+  // are clamped and non-finite ones read as 0, with one warning line on stderr that says how
+  // many texels changed (integer formats cannot leave the range).
+  bool unit_range = false;
 };
 
-// Loads level 0 of a texture (no mips; call generate_mips). The format follows the file:
+// Loads level 0 of a texture (no mips; call generate_mips). Only a regular file is read
+// (rasterizer/safe_file.h: never a FIFO or a device, at most kMaxInputFileBytes), into memory,
+// and decoded from there; libpng's own stderr lines are caught (not printed). The format
+// follows the file:
 //   8-bit:        1 channel R8, 2 RG8, 3 RGBA8 (alpha 1), 4+ RGBA8 (first four)
 //   16-bit int:   1 channel R16, otherwise RGBA16F (missing channels 0, alpha 1)
 //   half / float: 1 channel R16F (half) or R32F (float or wider), otherwise RGBA16F
 // first_channel_only forces the one-channel format of the file's depth.
 Result<Texture> load_texture(const std::string& path, const TextureLoadOptions& opts = {});
+
+// load_texture of an image held in memory (an embedded glTF image); `name` starts its messages.
+// The decoder reads only `bytes` (at most kMaxInputFileBytes).
+Result<Texture> load_texture_from_memory(std::string bytes, const std::string& name,
+                                         const TextureLoadOptions& opts = {});
 
 // Reads an image as linear float RGBA (1 channel: grey, alpha 1; 2: grey + alpha; 3: alpha 1).
 // 8-bit files are decoded from sRGB (alpha stays linear). Non-finite values read as 0.
@@ -44,9 +62,17 @@ Result<Image> read_image(const std::string& path);
 
 // Writes by extension: .png 8-bit sRGB-encoded, .exr float linear, .tif/.tiff 16-bit linear.
 // Integer formats clamp to [0, 1]; RGB when every alpha is 1, RGBA otherwise (EXR: always RGBA).
-// NaN or Inf pixels are written as 0. The write is atomic: a temporary file in the same
-// directory is renamed over `path`; on failure nothing is left behind.
+// NaN or Inf pixels are written as 0. The file is encoded in memory and written atomically
+// (rasterizer/output_file.h: checked writes, fsync, rename); on failure nothing is left behind
+// and a file already at `path` is unchanged.
 Status write_image(const std::string& path, const Image& image);
+// The bytes write_image / write_plane write to `path` (format by its extension), for callers
+// that stage several outputs together (StagedFiles). Errors start with `path`.
+Result<std::vector<unsigned char>> encode_image(const std::string& path, const Image& image);
+Result<std::vector<unsigned char>> encode_plane(const std::string& path, const Plane& plane);
+// OK when `path` ends in an extension write_image and write_plane know (.png .exr .tif .tiff,
+// any case); else a usage error (exit 2) starting with `path`.
+Status check_image_extension(const std::string& path);
 
 // One-channel float plane (depth, steps, ...): .exr and .tif/.tiff as 32-bit float (channel "Y");
 // .png as 16-bit grey normalised by the range [min(0, lowest), max(1, highest)], so values in

@@ -30,11 +30,11 @@ struct Mesh {
 
 struct Material {
   std::string name;
-  std::string technique = "normal";          // plugin name
-  std::map<std::string, float> params;       // by schema name; missing ones take defaults
+  std::string technique = "normal";            // plugin name
+  std::map<std::string, float> params;         // by schema name; missing ones take defaults
   std::map<std::string, TexturePtr> textures;  // by slot name ("base_color", "depth", ...)
   glm::vec4 base_color{1.0f};
-  glm::vec2 uv_scale{1.0f};                  // tiling (KHR_texture_transform scale)
+  glm::vec2 uv_scale{1.0f};  // tiling (KHR_texture_transform scale)
   glm::vec2 uv_offset{0.0f};
   SamplerState sampler;
   float specular = 0.25f;
@@ -89,6 +89,14 @@ struct SceneAnimation;  // scene/animation.h
 // The most triangles one frame draws (each instance counts its mesh's triangles); make_plan
 // refuses a scene with more, before anything is allocated for it (docs/errors.md, "Limits").
 inline constexpr uint64_t kMaxSceneTriangles = uint64_t{1} << 23;
+// The most mesh instances one frame draws (one per node and primitive); glTF files are checked
+// against it from their JSON counts before any mesh is decoded.
+inline constexpr uint64_t kMaxSceneInstances = 65536;
+// The most vertices a loaded scene holds: each shared mesh once, each skinned or morphed
+// instance its own posed and rest copies and morph targets (3 per triangle of the limit above).
+inline constexpr uint64_t kMaxSceneVertices = 3 * kMaxSceneTriangles;
+// The deepest node hierarchy a glTF file may have (a root is at depth 1).
+inline constexpr int kMaxNodeDepth = 1024;
 
 struct Scene {
   std::string name;

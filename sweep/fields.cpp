@@ -102,6 +102,7 @@ Result<Field> field_from_file(const std::string& path, float depth_scale, bool h
   TextureLoadOptions lo;
   lo.first_channel_only = true;
   lo.height_to_depth = height;
+  lo.unit_range = true;
   Result<Texture> t = load_texture(path, lo);
   if (!t.ok()) return t.status();
   Scene holder;  // a material with only the depth map: colour and normal map are derived

@@ -11,6 +11,7 @@
 #include <set>
 #include <sstream>
 
+#include "rasterizer/output_file.h"
 #include "scene/image_io.h"
 #include "sweep/sweep.h"
 
@@ -60,16 +61,11 @@ std::string base64(const std::string& bytes) {
   return o;
 }
 
-// A PNG data: URI of `image`, encoded through a temporary file in `dir`.
+// A PNG data: URI of `image`, encoded in memory (`dir` names the report in messages).
 Result<std::string> png_uri(const Image& image, const std::string& dir) {
-  const std::string tmp = dir + "/.img" + std::to_string(::getpid()) + ".png";
-  Status s = write_image(tmp, image);
-  if (!s.ok()) return s;
-  std::ifstream in(tmp, std::ios::binary);
-  std::ostringstream bytes;
-  bytes << in.rdbuf();
-  std::remove(tmp.c_str());
-  return "data:image/png;base64," + base64(bytes.str());
+  Result<std::vector<unsigned char>> bytes = encode_image(dir + "/index.html.png", image);
+  if (!bytes.ok()) return bytes.status();
+  return "data:image/png;base64," + base64(std::string(bytes->begin(), bytes->end()));
 }
 
 std::string fmt(const char* f, double v) {
@@ -280,22 +276,7 @@ Status write_report(const std::string& dir, const SweepResult& result, const Run
        "document.body.setAttribute('data-plot-points',String(n));})();\n</script>\n";
   h << "</body></html>\n";
 
-  const std::string path = dir + "/index.html";
-  const std::string tmp = dir + "/.index.html.tmp" + std::to_string(::getpid());
-  {
-    std::ofstream out(tmp, std::ios::binary);
-    out << h.str();
-    if (!out) {
-      std::remove(tmp.c_str());
-      return Status::error(path + ": cannot write the report");
-    }
-  }
-  std::filesystem::rename(tmp, path, ec);
-  if (ec) {
-    std::remove(tmp.c_str());
-    return Status::error(path + ": cannot rename into place: " + ec.message());
-  }
-  return {};
+  return write_file_atomic(dir + "/index.html", h.str());  // checked writes, fsync, rename
 }
 
 }  // namespace relief::sweep

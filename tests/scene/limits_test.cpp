@@ -19,8 +19,9 @@ TEST(Limits, TextureSideAndTexelCountAreRefusedFromTheHeader) {
     const char* expect;
   };
   for (const Case& c : {Case{100000, 100000, "16384 on a side"}, Case{16385, 1, "16384 on a side"},
-                        Case{16384, 8192, "67108864 texels"}}) {
-    const std::string path = tmp("limits_" + std::to_string(c.w) + "x" + std::to_string(c.h) + ".png");
+                        Case{16384, 8192, "16777216 texels for a texture"}}) {
+    const std::string path =
+        tmp("limits_" + std::to_string(c.w) + "x" + std::to_string(c.h) + ".png");
     testing::write_png_header_only(path, c.w, c.h);
     Result<Texture> t = load_texture(path);
     ASSERT_FALSE(t.ok()) << c.w << "x" << c.h;
@@ -42,8 +43,7 @@ TEST(Limits, TextureAtTheSideLimitIsNotRefusedForItsSize) {
   testing::write_png_header_only(path, 16384, 1);
   Result<Texture> t = load_texture(path);
   ASSERT_FALSE(t.ok());
-  EXPECT_EQ(t.status().message().find("than the limit"), std::string::npos)
-      << t.status().message();
+  EXPECT_EQ(t.status().message().find("than the limit"), std::string::npos) << t.status().message();
 }
 
 }  // namespace
