@@ -16,7 +16,7 @@ SECONDS_PER_TARGET=${FUZZ_SECONDS:-60}
 SEED=${FUZZ_SEED:-1}
 RUNS=${FUZZ_RUNS:--1}
 JOBS=${JOBS:-$(nproc)}
-TARGETS=(gltf image cli plugin_schema)
+TARGETS=(gltf gltf_struct image image_header cli plugin_schema)
 SANITIZER_CXX=${FUZZ_CXX:-${SANITIZER_CXX:-clang++-14}}
 source scripts/clang-sanitized.sh
 
