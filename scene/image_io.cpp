@@ -66,11 +66,33 @@ uint16_t to_u16(double v) {
 
 enum class Depth { k8, k16, kHalf, kFloat };
 
+// A read-only view of bytes for the readers. OIIO 2.4's IOMemReader reads past the end of its
+// buffer when a read starts inside it and ends beyond (fuzz_image_header: an OpenEXR scanline
+// chunk whose size runs past the file, heap-buffer-overflow in IOMemReader::pread): here every
+// read is clamped to the bytes there are, and one starting at or past the end reads nothing. It
+// stays an IOMemReader (proxytype "memreader"): the JPEG reader takes only that and reads its
+// buffer() whole, with its size.
+class BytesReader final : public OIIO::Filesystem::IOMemReader {
+ public:
+  explicit BytesReader(const std::string& bytes) : IOMemReader(bytes.data(), bytes.size()) {}
+  size_t read(void* buf, size_t size) override {
+    const size_t n = pread(buf, size, m_pos);
+    m_pos += static_cast<int64_t>(n);
+    return n;
+  }
+  size_t pread(void* buf, size_t size, int64_t offset) override {
+    if (offset < 0 || static_cast<uint64_t>(offset) >= m_buf.size()) return 0;
+    const size_t n = std::min(size, m_buf.size() - static_cast<size_t>(offset));
+    std::memcpy(buf, m_buf.data() + offset, n);
+    return n;
+  }
+};
+
 // An opened input whose size has been checked. The reader only ever sees `bytes` (read from a
 // checked regular file, or handed over in memory) through `proxy`: it never opens a path.
 struct Input {
   std::string bytes;
-  std::unique_ptr<OIIO::Filesystem::IOMemReader> proxy;
+  std::unique_ptr<BytesReader> proxy;
   std::unique_ptr<OIIO::ImageInput> in;
   int width = 0;
   int height = 0;
@@ -156,6 +178,50 @@ std::mutex& decode_mutex() {
   return m;
 }
 
+// OpenEXR allocates a tiled file's tile buffers when it opens the file, before any spec can be
+// checked: the tile size (and channel count) is read from the header's "tiles" and "channels"
+// attributes here first. Only what the header says is looked at; a malformed header is left to
+// the reader's own errors.
+Status check_exr_tiles(const std::string& path, const std::string& bytes) {
+  if (bytes.size() < 8 || std::memcmp(bytes.data(), "\x76\x2f\x31\x01", 4) != 0) return {};
+  size_t at = 8;
+  const auto cstring = [&](std::string& out) {
+    const size_t end = bytes.find('\0', at);
+    if (end == std::string::npos) return false;
+    out.assign(bytes, at, end - at);
+    at = end + 1;
+    return true;
+  };
+  uint32_t tile_w = 0, tile_h = 0;
+  long long channels = 0;
+  std::string name, type;
+  while (at < bytes.size() && bytes[at] != '\0') {
+    uint32_t size = 0;
+    if (!cstring(name) || !cstring(type) || bytes.size() - at < 4) return {};
+    std::memcpy(&size, bytes.data() + at, 4);
+    at += 4;
+    if (size > bytes.size() - at) return {};
+    if (name == "tiles" && type == "tiledesc" && size >= 8) {
+      std::memcpy(&tile_w, bytes.data() + at, 4);
+      std::memcpy(&tile_h, bytes.data() + at + 4, 4);
+    } else if (name == "channels" && type == "chlist") {
+      for (size_t c = at; c < at + size && bytes[c] != '\0'; ++channels) {
+        const size_t end = bytes.find('\0', c);
+        if (end == std::string::npos) break;
+        c = end + 1 + 16;  // name, then pixel type, pLinear + reserved, x and y sampling
+      }
+    }
+    at += size;
+  }
+  if (tile_w > 0 && static_cast<double>(tile_w) * tile_h * std::max(channels, 1LL) >
+                        static_cast<double>(kMaxTileValues))
+    return fail(path, "tiles of " + std::to_string(tile_w) + "x" + std::to_string(tile_h) +
+                          " texels x " + std::to_string(channels) +
+                          " channels, more than the limit of " + std::to_string(kMaxTileValues) +
+                          " values a tile");
+  return {};
+}
+
 // Opens `in.bytes` (already filled) for `path` (the name used in messages).
 // `max_texels`: kMaxTextureTexels for textures, kMaxImageTexels for read_image.
 Status open_bytes(const std::string& path, Input& out, long long max_texels) {
@@ -165,10 +231,11 @@ Status open_bytes(const std::string& path, Input& out, long long max_texels) {
     return fail(path,
                 "cannot read image: not a PNG, JPEG, EXR, TIFF, HDR, BMP, GIF, PSD, DDS, "
                 "WebP, PNM or TGA file");
+  RELIEF_RETURN_IF_ERROR(check_exr_tiles(path, out.bytes));
   out.in = OIIO::ImageInput::create(format);
   if (!out.in || !out.in->supports("ioproxy"))
     return fail(path, std::string("cannot read image: no ") + format + " reader");
-  out.proxy = std::make_unique<OIIO::Filesystem::IOMemReader>(out.bytes.data(), out.bytes.size());
+  out.proxy = std::make_unique<BytesReader>(out.bytes);
   out.in->set_ioproxy(out.proxy.get());
   // Keep alpha unassociated: texture alpha is data (depth, heights), never premultiplied.
   OIIO::ImageSpec config;
@@ -203,6 +270,13 @@ Status open_bytes(const std::string& path, Input& out, long long max_texels) {
   if (spec.nchannels < 1) return fail(path, "image has no channels");
   if (spec.nchannels > 64)
     return fail(path, "image has " + std::to_string(spec.nchannels) + " channels, more than 64");
+  if (spec.tile_width > 0 && static_cast<double>(spec.tile_width) * std::max(spec.tile_height, 1) *
+                                     std::max(spec.tile_depth, 1) * spec.nchannels >
+                                 static_cast<double>(kMaxTileValues))
+    return fail(path, "tiles of " + std::to_string(spec.tile_width) + "x" +
+                          std::to_string(spec.tile_height) + " texels x " +
+                          std::to_string(spec.nchannels) + " channels, more than the limit of " +
+                          std::to_string(kMaxTileValues) + " values a tile");
   out.width = spec.width;
   out.height = spec.height;
   out.channels = spec.nchannels;

@@ -183,8 +183,12 @@ Bytes make_exr(FuzzedDataProvider& p) {
   exr_attr(out, "compression", "compression", {compression});
   Bytes box;
   const int32_t x0 = coord(p), y0 = coord(p);
-  const int32_t x1 = !rare(p) ? x0 + p.ConsumeIntegralInRange<int32_t>(0, 40) : coord(p);
-  const int32_t y1 = !rare(p) ? y0 + p.ConsumeIntegralInRange<int32_t>(0, 40) : coord(p);
+  // Window corners as a writer of odd files may give them: sums wrap as in the file's int32.
+  const auto plus = [](int32_t a, uint32_t b) {
+    return static_cast<int32_t>(static_cast<uint32_t>(a) + b);
+  };
+  const int32_t x1 = !rare(p) ? plus(x0, p.ConsumeIntegralInRange<uint32_t>(0, 40)) : coord(p);
+  const int32_t y1 = !rare(p) ? plus(y0, p.ConsumeIntegralInRange<uint32_t>(0, 40)) : coord(p);
   for (int32_t v : {x0, y0, x1, y1}) put32le(box, static_cast<uint32_t>(v));
   exr_attr(out, "dataWindow", "box2i", box);
   if (rare(p)) {
@@ -223,7 +227,7 @@ Bytes make_exr(FuzzedDataProvider& p) {
   size_t at = table_end;
   for (int i = 0; i < chunks; ++i) {
     Bytes c;
-    put32le(c, static_cast<uint32_t>(y0 + i * (rare(p) ? 1 : per)));
+    put32le(c, static_cast<uint32_t>(plus(y0, static_cast<uint32_t>(i * (rare(p) ? 1 : per)))));
     const std::string data = p.ConsumeRandomLengthString(2048);
     put32le(c, !rare(p) ? static_cast<uint32_t>(data.size()) : p.ConsumeIntegral<uint32_t>());
     put_bytes(c, data);
