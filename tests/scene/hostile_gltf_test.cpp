@@ -328,7 +328,7 @@ TEST_F(HostileGltf, GlbJsonChunkIsValidatedToo) {
 TEST_F(HostileGltf, SamplerValuesMustBeGlEnums) {
   auto with = [](const json& sampler) {
     json j = triangle();
-    j["samplers"] = {sampler};
+    j["samplers"] = json::array({sampler});  // not {sampler}: clang copies the object
     return j;
   };
   expect_error(with({{"wrapS", "REPEAT"}}), "/samplers/0/wrapS", "expected a wrap mode");
@@ -337,7 +337,7 @@ TEST_F(HostileGltf, SamplerValuesMustBeGlEnums) {
   expect_error(with({{"magFilter", 9987}}), "/samplers/0/magFilter", "unknown filter 9987");
   expect_error(with({{"magFilter", 9728.5}}), "/samplers/0/magFilter", "expected a filter");
   json tex = triangle();
-  tex["samplers"] = {json::object()};
+  tex["samplers"] = json::array({json::object()});
   tex["images"] = {{{"bufferView", 0}, {"mimeType", "image/png"}}};
   tex["textures"] = {{{"sampler", "0"}, {"source", 0}}};
   expect_error(tex, "/textures/0/sampler", "expected an index into /samplers (0..0), got \"0\"");
