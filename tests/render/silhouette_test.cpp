@@ -97,9 +97,8 @@ TEST(Silhouette, ReliefQuadricOutlineErrorIsAtMostAThirdOfThePolygons) {
   const MaskDiff q = compare_masks(render_coverage(c.relief_mapped, ""), truth);
   const MaskDiff p = compare_masks(render_coverage(c.relief_mapped, "flat"), truth);
   ASSERT_GT(p.differing, 0);
-  EXPECT_LE(3 * q.differing, p.differing)
-      << "relief_quadric " << q.differing << " / " << q.band << ", polygon " << p.differing
-      << " / " << p.band;
+  EXPECT_LE(3 * q.differing, p.differing) << "relief_quadric " << q.differing << " / " << q.band
+                                          << ", polygon " << p.differing << " / " << p.band;
 }
 
 TEST(Silhouette, ReliefQuadricSphereIsCloserToTheDisplacedMeshThanThePolygon) {
