@@ -155,16 +155,11 @@ struct PrimitiveKey {
 
 class Reader {
  public:
-  // json_text: the document's JSON as it is in the file (a .gltf's text, a .glb's JSON chunk),
-  // for checks that need what tinygltf drops or defaults.
-  Reader(std::string path, tinygltf::Model& model, std::string json_text)
-      : path_(std::move(path)), m_(model), json_text_(std::move(json_text)) {
-    base_dir_ = fs::path(path_).parent_path().string();
-  }
+  // `model` has passed validate_gltf_text (schema, hierarchy, draw limits) in load_gltf.
+  Reader(std::string path, tinygltf::Model& model) : path_(std::move(path)), m_(model) {}
 
   Result<Scene> read() {
     scene_.name = fs::path(path_).stem().string();
-    // json_text_ passed validate_gltf_text (schema, hierarchy, draw limits) in load_gltf.
     RELIEF_RETURN_IF_ERROR(check_required_extensions());
     RELIEF_RETURN_IF_ERROR(read_root_extension());
     for (size_t i = 0; i < m_.materials.size(); ++i) {
@@ -1501,9 +1496,7 @@ class Reader {
   }
 
   std::string path_;
-  std::string base_dir_;
   tinygltf::Model& m_;
-  std::string json_text_;
   Scene scene_;
   std::vector<MaterialInfo> materials_;
   int default_material_ = -1;
@@ -1829,7 +1822,7 @@ Result<Scene> load_gltf(const std::string& path, const GltfLoadOptions& options)
     ok = loader.LoadASCIIFromString(&model, &err, &warn, bytes->data(), length, base_dir);
   if (!ok)
     return Status::error(shown + ": " + (err.empty() ? "cannot parse" : tinygltf_message(err)));
-  Reader reader(path, model, std::move(json_text));
+  Reader reader(path, model);
   reader.set_scene_folder(scene_fs.folder);
   return reader.read();
 }
