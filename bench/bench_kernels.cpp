@@ -139,10 +139,16 @@ void BM_Kernel_Relief(benchmark::State& state) {
   run(state,
       [&](V2<F8> uv, V2<F8> ds, F8) { return relief_search(d, uv, ds, F8(32.0f), 8, kAll); });
 }
+// The plugins' view-ray fallback floor (plugins/cone_shell.h) over the fixture's depth map.
+F8 floor_of(const V2<F8>& ds) {
+  return half_texel_along(fixture().depth->width(), fixture().depth->height(), ds);
+}
 void BM_Kernel_Cone(benchmark::State& state) {
   const TextureDepth d = depth_source();
   const TextureCone c = cone_source(fixture().cone);
-  run(state, [&](V2<F8> uv, V2<F8> ds, F8) { return cone_search(d, c, uv, ds, 15, kAll); });
+  run(state, [&](V2<F8> uv, V2<F8> ds, F8) {
+    return cone_search(d, c, uv, ds, 15, 8, 6, floor_of(ds), kAll);
+  });
 }
 void BM_Kernel_ConeQuad(benchmark::State& state) {
   const TextureDepth d = depth_source();
@@ -152,17 +158,15 @@ void BM_Kernel_ConeQuad(benchmark::State& state) {
   run(state, [&](V2<F8> uv, V2<F8> ds, F8) {
     QuadTextureCone aimed = c;
     aimed.aim(ds);
-    return cone_search(d, aimed, uv, ds, 15, kAll);
+    return cone_search(d, aimed, uv, ds, 15, 8, 6, floor_of(ds), kAll);
   });
 }
 void BM_Kernel_RelaxedCone(benchmark::State& state) {
   const TextureDepth d = depth_source();
-  NearestTextureDepth nd;
-  nd.texture = fixture().depth.get();
-  nd.sampler = cone_sampler(fixture().sampler);
   const TextureCone c = cone_source(fixture().cone_relaxed);
-  run(state,
-      [&](V2<F8> uv, V2<F8> ds, F8) { return relaxed_cone_search(nd, d, c, uv, ds, 15, 6, kAll); });
+  run(state, [&](V2<F8> uv, V2<F8> ds, F8) {
+    return cone_search(d, c, uv, ds, 15, 8, 6, floor_of(ds), kAll);
+  });
 }
 void BM_Kernel_Exact(benchmark::State& state) {
   const HeightField& field = fixture().field;

@@ -1,43 +1,26 @@
 // `cone`: conservative cone stepping
 // Dummer, "Cone Step Mapping: An Iterative Ray-Heightfield Intersection Algorithm", 2006 (as
 // summarised in Policarpo and Oliveira, GPU Gems 3 ch. 18, section 18.3).
-// The march of shaders_cpp/cone.h inside the shared shell (plugins/relief_shell.h): `steps` cone
-// steps with the conservative cone map of slot 3 (baked from the depth map when the material has
-// none); the hit is where the march stopped. Self-shadow: the light ray, cone-stepped the same way.
+// The search of shaders_cpp/cone.h inside the shared shell (plugins/relief_shell.h): `steps` cone
+// steps with the conservative cone map of slot 3 (bilinear-safe, baked from the depth map when the
+// material has none), then cone_finish: lanes still above the surface take `fallback_steps`
+// linear steps, and `binary_steps` halvings refine the last bracket, so the hit lies on the
+// surface (Dummer's march alone stops above it when the steps run out). Self-shadow: the light
+// ray, searched the same way without the halvings.
 #include "plugins/builtin.h"
 #include "plugins/cone_shell.h"
 
 namespace relief {
 namespace {
 
-enum Param { kSteps, kDepthScaleParam, kShadowStepsParam };
-const ParamSpec kParams[] = {kConeStepsSpec, kDepthScaleSpec, kConeShadowStepsSpec};
+enum Param { kSteps, kDepthScaleParam, kShadowStepsParam, kBinaryStepsParam, kFallbackStepsParam };
+const ParamSpec kParams[] = {kConeStepsSpec, kDepthScaleSpec, kConeShadowStepsSpec,
+                             kConeBinaryStepsSpec, kConeFallbackStepsSpec};
 const TextureSlotSpec kSlots[] = {kBaseColorSlotSpec, kNormalSlotSpec, kDepthSlotSpec,
                                   kConeConservativeSlotSpec};
-
-struct ConeSearch {
-  static constexpr int kDepthScale = kDepthScaleParam;
-  template <class F>
-  static SearchHit<F> search(const ShadeContext& ctx, const FragIn<F>& in,
-                             const TextureDepth& depth, const V3<F>&, const V2<F>& ds,
-                             mask_t<F> active) {
-    TextureCone cone;
-    if (!make_cone_source(ctx, depth, cone)) return {in.uv, F(0.0f), F(0.0f), F(0.0f)};
-    return cone_search(depth, cone, in.uv, ds, static_cast<int>(ctx.material->params[kSteps]),
-                       active);
-  }
-  template <class F>
-  static F shadow(const ShadeContext& ctx, const TextureDepth& depth, const SearchHit<F>& hit,
-                  const V2<F>& dl, const F& lz, mask_t<F> lit, ShadeOut<F>& o) {
-    TextureCone cone;
-    if (!make_cone_source(ctx, depth, cone)) return F(1.0f);
-    const int n = static_cast<int>(ctx.material->params[kShadowStepsParam]);
-    return cone_light_visibility(hit, dl, lz, lit, o,
-                                 [&](V2<F> uv, V2<F> dir, F t_max, mask_t<F> a) {
-                                   return cone_search(depth, cone, uv, dir, n, a, t_max);
-                                 });
-  }
-};
+constexpr ConeParamIndex kIndex = {kSteps, kBinaryStepsParam, kDepthScaleParam, kShadowStepsParam,
+                                   kFallbackStepsParam};
+using ConeSearch = ConeFamilySearch<TextureCone, kIndex>;
 
 }  // namespace
 

@@ -45,6 +45,27 @@ inline constexpr ParamSpec kConeShadowStepsSpec = {
     nullptr,
     "cone steps of the light ray (self_shadow effect)"};
 
+// 8 halvings, as relief's: the chapter's 6 of a long relaxed bracket leave the inside end deeper
+// than kConeShadowBias under `plane`'s brick tops, and the light ray starting there is shadowed
+// (stray dark pixels; docs/cones.md).
+inline constexpr ParamSpec kConeBinaryStepsSpec = {
+    "binary_steps",
+    ParamType::kInt,
+    8.0f,
+    0.0f,
+    32.0f,
+    nullptr,
+    "halvings of [last outside, first inside sample] (chapter: 6, from H to K)"};
+inline constexpr ParamSpec kConeFallbackStepsSpec = {
+    "fallback_steps",
+    ParamType::kInt,
+    8.0f,
+    1.0f,
+    64.0f,
+    nullptr,
+    "cone steps of at least half a texel (view ray) or a k-th of the rest (light ray) after "
+    "`steps` left the ray outside the surface"};
+
 // Depth units an occluder must rise above the shadow ray (as the marched shadow of relief uses).
 inline constexpr float kConeShadowBias = 0.01f;
 
@@ -80,6 +101,50 @@ inline F cone_light_visibility(const SearchHit<F>& hit, const V2<F>& dl, const F
   o.fetches += s.fetches;
   return s.visibility;
 }
+
+// Indices of the cone plugins' parameters in their schemas.
+struct ConeParamIndex {
+  int steps, binary_steps, depth_scale, shadow_steps, fallback_steps;
+};
+
+// The search of the three cone plugins in the relief shell: `Cone` (TextureCone or
+// QuadTextureCone, aimed along each ray) from slot 3, cone_search on the material's depth for the
+// view ray, cone_occluder_search for the light ray. They differ only in the cone map they read.
+template <class Cone, const ConeParamIndex& kIndex>
+struct ConeFamilySearch {
+  static constexpr int kDepthScale = kIndex.depth_scale;
+  template <class F>
+  static void aim(Cone& cone, const V2<F>& dir) {
+    if constexpr (requires { cone.aim(dir); }) cone.aim(dir);
+  }
+  template <class F>
+  static SearchHit<F> search(const ShadeContext& ctx, const FragIn<F>& in,
+                             const TextureDepth& depth, const V3<F>&, const V2<F>& ds,
+                             mask_t<F> active) {
+    Cone cone;
+    if (!make_cone_source(ctx, depth, cone)) return {in.uv, F(0.0f), F(0.0f), F(0.0f)};
+    aim(cone, ds);
+    const float* p = ctx.material->params;
+    const F view_floor = half_texel_along(depth.texture->width(), depth.texture->height(), ds);
+    return cone_search(depth, cone, in.uv, ds, static_cast<int>(p[kIndex.steps]),
+                       static_cast<int>(p[kIndex.fallback_steps]),
+                       static_cast<int>(p[kIndex.binary_steps]), view_floor, active);
+  }
+  template <class F>
+  static F shadow(const ShadeContext& ctx, const TextureDepth& depth, const SearchHit<F>& hit,
+                  const V2<F>& dl, const F& lz, mask_t<F> lit, ShadeOut<F>& o) {
+    Cone cone;
+    if (!make_cone_source(ctx, depth, cone)) return F(1.0f);
+    const float* p = ctx.material->params;
+    const int n = static_cast<int>(p[kIndex.shadow_steps]);
+    const int k = static_cast<int>(p[kIndex.fallback_steps]);
+    return cone_light_visibility(
+        hit, dl, lz, lit, o, [&](V2<F> uv, V2<F> dir, F t_max, mask_t<F> a) {
+          aim(cone, dir);
+          return cone_occluder_search(depth, cone, uv, dir, n, k, a, t_max);
+        });
+  }
+};
 
 // The descriptor of a cone plugin: the shell's variants of `Search`, its schema and slots.
 template <class Search, size_t kNumParams, size_t kNumSlots>

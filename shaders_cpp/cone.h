@@ -14,6 +14,11 @@
 // map is its own texture here, where the chapter packs depth and ratio into one texel). A lane
 // stops once it samples a point at or under the surface (h <= 0: the listing's saturate() makes
 // d = 0 there, so the fixed-count loop would stay put), once it reaches t_max, or after n steps.
+// All three techniques march and refine on one field, the material's (bilinear) depth that the
+// exact reference intersects, and end bracket-safe (cone_finish): a lane the march left outside
+// takes a bounded number of floored steps, so a hit is never reported above the surface (issue 22:
+// the chapter marches the nearest-texel field its cones are baked for, and binary-searched the
+// bilinear one from H to K, which "converged" in the air where neither end brackets a crossing).
 //
 // Cone sources: any object with `float operator()(int lane, float u, float v) const` returning
 // the ratio that lane's ray may use at (u, v). TextureCone reads the first channel of a cone map;
@@ -42,7 +47,8 @@ struct NearestTextureDepth {
   float operator()(int lane, float u, float v) const {
     return sample_r_lod(*texture, sampler, glm::vec2(u, v), lod[lane]);
   }
-  template <class F> F lanes(V2<F> uv) const {
+  template <class F>
+  F lanes(V2<F> uv) const {
     return r_lod_lanes(*texture, sampler, lod, uv, plan);
   }
 };
@@ -65,7 +71,8 @@ struct TextureCone {
     return sample_lod(*texture, sampler, glm::vec2(u, v), lod[lane]).x;
   }
   // sample_r_lod is sample_lod's first channel for every format.
-  template <class F> F lanes(V2<F> uv) const {
+  template <class F>
+  F lanes(V2<F> uv) const {
     return r_lod_lanes(*texture, sampler, lod, uv, plan);
   }
 };
@@ -93,7 +100,8 @@ struct QuadTextureCone {
 
 // What a cone step reads at p: the depth and the cone ratio, for the marching lanes; counts one
 // step and two fetches per marching lane.
-template <class F> struct ConeTexel {
+template <class F>
+struct ConeTexel {
   F depth, ratio;
 };
 template <class F, class Depth, class Cone>
@@ -105,51 +113,157 @@ inline ConeTexel<F> sample_cone_texel(const Depth& depth, const Cone& cone, cons
   return c;
 }
 
-// Cone stepping (n steps at most) from depth 0: the last position reached is the hit (for
-// conservative cones, a point at or above the first intersection once the cones are exact; it
-// has converged onto the surface only if enough steps were taken). t_max <= 1 per lane caps the
-// march. Counters: one step and two fetches per iteration of a marching lane.
+// What a cone march leaves per lane: where it stopped (t: the first sample at or under the
+// surface, t_max, or the point the last step reached), the last sample outside (t_out, 0 when
+// none) and whether the sample at t was inside. Counters: one step and two fetches per sample.
+template <class F>
+struct ConeMarch {
+  F t, t_out;
+  mask_t<F> inside;
+  F steps, fetches;
+};
+
+// Cone stepping (n steps at most) from depth 0 on `depth`, capped at t_max <= 1 per lane.
+// Conservative cones safe for the sampled surface never pass its first intersection; relaxed
+// cones may step into the surface, and then stop at the first sample inside. (A floor under the
+// step, one or a quarter texel along the ray, so that a march skimming a surface cannot stall,
+// was measured worse on light rays: it leaves more of the ray to the coarse fallback.)
 template <class F, class Depth, class Cone>
-inline SearchHit<F> cone_march(const Depth& depth, const Cone& cone, V2<F> uv, V2<F> ds, int n,
-                               F t_max, mask_t<F> active) {
+inline ConeMarch<F> cone_march_state(const Depth& depth, const Cone& cone, V2<F> uv, V2<F> ds,
+                                     int n, F t_max, mask_t<F> active) {
   const F ray_ratio = vsqrt(ds.x * ds.x + ds.y * ds.y);
-  F t(0.0f), steps(0.0f), fetches(0.0f);
-  mask_t<F> marching = active & (t < t_max);
+  ConeMarch<F> m{F(0.0f), F(0.0f), false_mask<F>(), F(0.0f), F(0.0f)};
+  mask_t<F> marching = active & (m.t < t_max);
   for (int i = 0; i < n && any(marching); ++i) {
-    const ConeTexel<F> c = sample_cone_texel(depth, cone, uv + ds * t, marching, steps, fetches);
+    const ConeTexel<F> c =
+        sample_cone_texel(depth, cone, uv + ds * m.t, marching, m.steps, m.fetches);
     const F r = c.ratio;
-    const F h = c.depth - t;
+    const F h = c.depth - m.t;
+    m.inside = m.inside | (marching & !(h > F(0.0f)));
     marching = marching & (h > F(0.0f));
+    m.t_out = select(marching, m.t, m.t_out);
     // distance to the cone's surface along the ray (equation 3)
     const F den = ray_ratio + r;
     const mask_t<F> moves = marching & (den > F(0.0f));
     const F step = r * h / select(moves, den, F(1.0f));
-    t = select(moves, vmin(t + step, t_max), t);
-    marching = marching & (t < t_max);
+    m.t = select(moves, vmin(m.t + step, t_max), m.t);
+    marching = marching & (m.t < t_max);
   }
-  return {uv + ds * t, t, steps, fetches};
+  return m;
 }
 
-// Conservative (Dummer) or quad-directional cone stepping: the march itself is the search.
+// The march alone, as a hit at the position it stopped (the chapter's K; for conservative cones
+// the point reached, above the surface when the steps ran out).
+template <class F, class Depth, class Cone>
+inline SearchHit<F> cone_march(const Depth& depth, const Cone& cone, V2<F> uv, V2<F> ds, int n,
+                               F t_max, mask_t<F> active) {
+  const ConeMarch<F> m = cone_march_state(depth, cone, uv, ds, n, t_max, active);
+  return {uv + ds * m.t, m.t, m.steps, m.fetches};
+}
+
+// What cone_finish returns: the hit, and the lanes that found a sample inside (all active lanes
+// of a view ray; the occluded lanes of a light ray).
+template <class F>
+struct ConeHit {
+  SearchHit<F> hit;
+  mask_t<F> found;
+};
+
+// Half a texel of a w x h map along a ray of uv step ds, in units of t (the view ray's fallback
+// step; a ray along the normal gets a huge value, and the fallback's other bound decides).
+template <class F>
+inline F half_texel_along(int w, int h, V2<F> ds) {
+  const F len = vsqrt(ds.x * ds.x + ds.y * ds.y) * F(static_cast<float>(w > h ? w : h));
+  return F(0.5f) / vmax(len, F(1e-6f));
+}
+
+// The bracket-safe end of a cone march on the field it marched (`depth`, the surface the hit is
+// reported on). Lanes whose march sampled a point inside keep [t_out, t] as their bracket. Lanes
+// it left outside (out of steps, a stalled conservative march, or at t_max) fall back to k more
+// cone steps from where it stopped, each at least `floor` = (t_max - t) / k (so they reach
+// t_max), on a view ray (`bottom`) at most `view_floor` (half a texel along the ray: samples
+// that close cannot step over a one-texel wall the way an even split of a grazing ray's rest
+// does); the cone's own step is taken when longer. A view ray those steps leave short of t_max
+// takes k even samples over the rest (one fetch each). t_max ends the fallback: inside on a view
+// ray (depth 1 is under every surface; unsampled), the end of a light ray (no occluder: not
+// found). The first inside sample closes the bracket with the last outside one. Then m halvings
+// (one step, one fetch each) of every found lane's bracket, returning its inside end: every hit
+// is a sample of `depth` at or under the surface whose outside partner lies (t_in - t_out) / 2^m
+// before it, so no hit is reported in the air. Lanes not found return t_max. k >= 1. Counters:
+// the march's, plus one step and two fetches per fallback cone step, one and one per even sample.
+template <class F, class Depth, class Cone>
+inline ConeHit<F> cone_finish(const Depth& depth, const Cone& cone, V2<F> uv, V2<F> ds,
+                              const ConeMarch<F>& mr, int k, int m, F t_max, bool bottom,
+                              F view_floor, mask_t<F> active) {
+  const F ray_ratio = vsqrt(ds.x * ds.x + ds.y * ds.y);
+  F lo = mr.t_out, hi = mr.t;
+  F steps = mr.steps, fetches = mr.fetches;
+  mask_t<F> found = active & mr.inside;
+  mask_t<F> searching = active & !mr.inside & (mr.t < t_max);
+  F floor = (t_max - mr.t) * F(1.0f / static_cast<float>(k));
+  if (bottom) floor = vmin(floor, view_floor);
+  F s = mr.t;
+  for (int j = 0; j < k && any(searching); ++j) {
+    const ConeTexel<F> c = sample_cone_texel(depth, cone, uv + ds * s, searching, steps, fetches);
+    const F h = c.depth - s;
+    const mask_t<F> in = searching & !(h > F(0.0f));
+    found = found | in;
+    hi = select(in, s, hi);
+    searching = searching & !in;
+    lo = select(searching, s, lo);
+    const F den = ray_ratio + c.ratio;
+    const F step = vmax(c.ratio * h / select(den > F(0.0f), den, F(1.0f)), floor);
+    s = select(searching, vmin(s + step, t_max), s);
+    searching = searching & (s < t_max);
+  }
+  if (bottom) {
+    // view rays the short steps did not finish: k even samples over the rest, [s, t_max)
+    const F s0 = s, rest = t_max - s;
+    for (int j = 0; j < k && any(searching); ++j) {
+      const F u = s0 + rest * F(static_cast<float>(j) / static_cast<float>(k));
+      const F d = sample_depth(depth, uv + ds * u, searching);
+      steps += detail::count<F>(searching);
+      fetches += detail::count<F>(searching);
+      const mask_t<F> in = searching & (d <= u);
+      found = found | in;
+      hi = select(in, u, hi);
+      searching = searching & !in;
+      lo = select(searching, u, lo);
+    }
+  }
+  const mask_t<F> at_end = active & !found;  // reached t_max, or out of fallback steps
+  hi = select(at_end, t_max, hi);
+  if (bottom) found = found | at_end;
+  bisect(lo, hi, found & (hi > lo), m, 1.0f, steps, fetches, [&](const F& mid, mask_t<F> refine) {
+    return sample_depth(depth, uv + ds * mid, refine) <= mid;
+  });
+  const F t = select(active, hi, F(0.0f));
+  return {{uv + ds * t, t, steps, fetches}, found};
+}
+
+// Cone stepping (n steps, any cone kind) on `depth` then cone_finish (k fallback steps of at most
+// view_floor, half_texel_along the ray; m halvings) of the view ray: the search of all three cone
+// techniques. Conservative and quad cones bring most lanes down to the surface from above (the
+// halvings then refine the last gap), relaxed ones into it; the chapter's bracket from H (half-way
+// to K) to K is replaced by [last outside sample, K], which is a bracket on every lane.
 template <class F, class Depth, class Cone>
 inline SearchHit<F> cone_search(const Depth& depth, const Cone& cone, V2<F> uv, V2<F> ds, int n,
-                                mask_t<F> active, F t_max = F(1.0f)) {
-  return cone_march(depth, cone, uv, ds, n, t_max, active);
+                                int k, int m, F view_floor, mask_t<F> active) {
+  const ConeMarch<F> mr = cone_march_state(depth, cone, uv, ds, n, F(1.0f), active);
+  return cone_finish(depth, cone, uv, ds, mr, k, m, F(1.0f), true, view_floor, active).hit;
 }
 
-// Relaxed cone stepping (n steps) then m halvings of the segment from H to K (figure 18-10): K
-// is where the march stopped (depth t_K, inside the surface if the ray pierced it) and H the
-// point half-way between the fragment and K (depth t_K / 2). The march reads `march_depth`, the
-// nearest-texel field the relaxed cones are defined on (bake/cone_map.h), the binary search
-// `depth` (the material's filtering). A lane whose march never got inside converges to K.
-// Returns the inside end of the last bracket, as binary_search does.
-template <class F, class MarchDepth, class Depth, class Cone>
-inline SearchHit<F> relaxed_cone_search(const MarchDepth& march_depth, const Depth& depth,
-                                        const Cone& cone, V2<F> uv, V2<F> ds, int n, int m,
-                                        mask_t<F> active, F t_max = F(1.0f)) {
-  SearchHit<F> hit = cone_march(march_depth, cone, uv, ds, n, t_max, active);
-  const Bracket<F> hk{hit.depth * F(0.5f), F(0.0f), hit.depth, F(0.0f)};
-  return binary_search(depth, uv, ds, hk, m, active, hit);
+// A light ray's occluder search (see light_ray_shadow): the march and the fallback (steps of at
+// least a k-th of what is left), no halvings; the hit's depth is below t_max exactly on the lanes
+// where a sample was inside.
+template <class F, class Depth, class Cone>
+inline SearchHit<F> cone_occluder_search(const Depth& depth, const Cone& cone, V2<F> uv, V2<F> ds,
+                                         int n, int k, mask_t<F> active, F t_max) {
+  const ConeMarch<F> mr = cone_march_state(depth, cone, uv, ds, n, t_max, active);
+  const ConeHit<F> h = cone_finish(depth, cone, uv, ds, mr, k, 0, t_max, false, F(0.0f), active);
+  SearchHit<F> hit = h.hit;
+  hit.depth = select(h.found, hit.depth, t_max);
+  return hit;
 }
 
 template <class F>
@@ -163,11 +277,11 @@ struct ConeShadow {
 // light ray reach the shaded point before any other surface point?), with the exact reference's
 // bias semantics (shadowed where the surface is above the shadow ray by more than `bias`): the
 // light ray lowered by `bias` enters the depth range at E = uv + dl t_max, t_max = t - bias, and
-// runs down along -dl to depth t_max; `search(E, -dl, t_max, active)` is the technique's march
-// capped at t_max. The point is shadowed where the march stops before t_max: it reached the
-// surface (or, out of steps, stalled on the way; conservative cones never pass an occluder, so
-// they err only towards shadow). Lanes with L.z <= 0 get visibility 0 and take no step; inactive
-// lanes get 1.
+// runs down along -dl to depth t_max; `search(E, -dl, t_max, active)` is the technique's
+// occluder search capped at t_max (cone_occluder_search). The point is shadowed where the search
+// reports a depth before t_max: it sampled a point under the surface (a march that runs out of
+// steps on the way is not a shadow: cone_occluder_search then samples the rest of the ray).
+// Lanes with L.z <= 0 get visibility 0 and take no step; inactive lanes get 1.
 template <class F, class Search>
 inline ConeShadow<F> light_ray_shadow(V2<F> uv, F t, V2<F> dl, F lz, float bias, mask_t<F> active,
                                       Search&& search) {

@@ -162,40 +162,126 @@ ConeTexel cone_texel(TextureDepth depth, bool nearest, ConeSource cone, vec2 p, 
   return ConeTexel(march_depth(depth, nearest, p), cone_ratio(cone, p));
 }
 
-// cone_march: n cone steps from depth 0, capped at t_max; two fetches per step.
-SearchHit cone_march(TextureDepth depth, bool nearest, ConeSource cone, vec2 uv, vec2 ds, int n,
-                     float t_max) {
+// cone_march_state: n cone steps from depth 0, capped at t_max; two fetches per step. Returns
+// where it stopped (t), the last sample outside (t_out) and whether the sample at t was inside.
+struct ConeMarch {
+  float t, t_out;
+  bool inside;
+  float steps, fetches;
+};
+ConeMarch cone_march_state(TextureDepth depth, bool nearest, ConeSource cone, vec2 uv, vec2 ds,
+                           int n, float t_max) {
   float ray_ratio = sqrt(ds.x * ds.x + ds.y * ds.y);
-  float t = 0.0, steps = 0.0, fetches = 0.0;
-  bool marching = t < t_max;
+  ConeMarch m = ConeMarch(0.0, 0.0, false, 0.0, 0.0);
+  bool marching = m.t < t_max;
   for (int i = 0; i < n && marching; ++i) {
-    ConeTexel c = cone_texel(depth, nearest, cone, uv + ds * t, steps, fetches);
+    ConeTexel c = cone_texel(depth, nearest, cone, uv + ds * m.t, m.steps, m.fetches);
     float r = c.ratio;
-    float h = c.depth - t;
-    marching = marching && h > 0.0;
+    float h = c.depth - m.t;
+    m.inside = !(h > 0.0);
+    marching = h > 0.0;
+    if (marching) m.t_out = m.t;
     // distance to the cone's surface along the ray (equation 3)
     float den = ray_ratio + r;
     bool moves = marching && den > 0.0;
     float step_ = r * h / (moves ? den : 1.0);
-    t = moves ? min(t + step_, t_max) : t;
-    marching = marching && t < t_max;
+    m.t = moves ? min(m.t + step_, t_max) : m.t;
+    marching = marching && m.t < t_max;
   }
-  return SearchHit(uv + ds * t, t, steps, fetches);
+  return m;
 }
 
-// Relaxed cone stepping (n steps, nearest-texel depth) then m halvings from H (t_K / 2) to K.
-SearchHit relaxed_cone_search(TextureDepth depth, ConeSource cone, vec2 uv, vec2 ds, int n, int m) {
-  SearchHit hit = cone_march(depth, true, cone, uv, ds, n, 1.0);
-  Bracket hk = Bracket(hit.depth * 0.5, 0.0, hit.depth, 0.0);
-  return binary_search(depth, uv, ds, hk, m, hit);
+SearchHit cone_march(TextureDepth depth, bool nearest, ConeSource cone, vec2 uv, vec2 ds, int n,
+                     float t_max) {
+  ConeMarch m = cone_march_state(depth, nearest, cone, uv, ds, n, t_max);
+  return SearchHit(uv + ds * m.t, m.t, m.steps, m.fetches);
+}
+
+// half_texel_along: half a texel of the depth map along a ray of uv step ds, in units of t.
+float half_texel_along(vec2 ds) {
+  ivec2 size = textureSize(textures[kDepthSlot], 0);
+  float len = sqrt(ds.x * ds.x + ds.y * ds.y) * float(max(size.x, size.y));
+  return 0.5 / max(len, 1e-6);
+}
+
+// cone_finish: the bracket-safe end of a march on the material's depth (sample_r_lod_cpu, the
+// field the march read): a lane left outside takes k more cone steps of at least
+// (t_max - t) / k (on a view ray at most view_floor; a view ray they leave short of t_max then
+// takes k even samples over the rest), then t_max (inside on a view ray: bottom); m halvings of [last outside, first inside]; returns the inside end, or t_max with
+// found false.
+SearchHit cone_finish(TextureDepth depth, ConeSource cone, vec2 uv, vec2 ds, ConeMarch mr, int k,
+                      int m, float t_max, bool bottom, float view_floor, out bool found) {
+  float ray_ratio = sqrt(ds.x * ds.x + ds.y * ds.y);
+  float lo = mr.t_out, hi = mr.t;
+  float steps = mr.steps, fetches = mr.fetches;
+  found = mr.inside;
+  bool searching = !mr.inside && mr.t < t_max;
+  float floor_ = (t_max - mr.t) * (1.0 / float(k));
+  if (bottom) floor_ = min(floor_, view_floor);
+  float s = mr.t;
+  for (int j = 0; j < k && searching; ++j) {
+    ConeTexel c = cone_texel(depth, false, cone, uv + ds * s, steps, fetches);
+    float h = c.depth - s;
+    if (!(h > 0.0)) {
+      found = true;
+      hi = s;
+      searching = false;
+    } else {
+      lo = s;
+      float den = ray_ratio + c.ratio;
+      float step_ = max(c.ratio * h / (den > 0.0 ? den : 1.0), floor_);
+      s = min(s + step_, t_max);
+      searching = s < t_max;
+    }
+  }
+  if (bottom && searching) {
+    // the short steps did not finish: k even samples over the rest, [s, t_max)
+    float s0 = s, rest = t_max - s;
+    for (int j = 0; j < k && searching; ++j) {
+      float u = s0 + rest * (float(j) / float(k));
+      float d = march_depth(depth, false, uv + ds * u);
+      steps += 1.0;
+      fetches += 1.0;
+      if (d <= u) {
+        found = true;
+        hi = u;
+        searching = false;
+      } else {
+        lo = u;
+      }
+    }
+  }
+  if (!found) {
+    hi = t_max;
+    found = bottom;
+  }
+  bool refine = found && hi > lo;
+  for (int i = 0; i < m && refine; ++i) {
+    float mid = (lo + hi) * 0.5;
+    if (march_depth(depth, false, uv + ds * mid) <= mid)
+      hi = mid;
+    else
+      lo = mid;
+    steps += 1.0;
+    fetches += 1.0;
+  }
+  return SearchHit(uv + ds * hi, hi, steps, fetches);
+}
+
+// cone_search: the view ray of all three cone techniques (n cone steps, k fallback steps, m
+// halvings).
+SearchHit cone_search(TextureDepth depth, ConeSource cone, vec2 uv, vec2 ds, int n, int k, int m) {
+  ConeMarch mr = cone_march_state(depth, false, cone, uv, ds, n, 1.0);
+  bool found;
+  return cone_finish(depth, cone, uv, ds, mr, k, m, 1.0, true, half_texel_along(ds), found);
 }
 
 // light_ray_shadow + cone_light_visibility: the light ray lowered by kConeShadowBias enters the
-// depth range at uv + dl t_max and is marched down to t_max; stopping short of it is shadow.
-// Called on lit fragments only (the C++ `lit` mask). relaxed: the plain cone march on the
-// material's depth (relaxed_cone.cpp's shadow), else cone_search (the same march).
+// depth range at uv + dl t_max and is searched down to t_max (cone_occluder_search: the march,
+// then the linear fallback); a sample inside is shadow. Called on lit fragments only (the C++
+// `lit` mask).
 float cone_light_visibility(TextureDepth depth, ConeSource cone, SearchHit hit, vec2 dl, float lz,
-                            int n, inout ShadeOut o) {
+                            int n, int k, inout ShadeOut o) {
   bool lit_side = lz > 0.0;
   float t_max = hit.depth - kConeShadowBias;
   bool trace = lit_side && t_max > 0.0;
@@ -204,8 +290,10 @@ float cone_light_visibility(TextureDepth depth, ConeSource cone, SearchHit hit, 
   vec2 entry = hit.uv + dl * t_max;
   vec2 down = vec2(0.0 - dl.x, 0.0 - dl.y);
   if (cone.quad) cone = aim(cone, down);
-  SearchHit h = cone_march(depth, false, cone, entry, down, n, t_max);
+  ConeMarch mr = cone_march_state(depth, false, cone, entry, down, n, t_max);
+  bool found;
+  SearchHit h = cone_finish(depth, cone, entry, down, mr, k, 0, t_max, false, 0.0, found);
   o.shadow_steps += h.steps;
   o.fetches += h.fetches;
-  return h.depth < t_max ? 0.0 : vis;
+  return found ? 0.0 : vis;
 }

@@ -1,14 +1,16 @@
 #version 450 core
 // `relaxed_cone`: GLSL twin of plugins/relaxed_cone.cpp. Relaxed cone stepping then a binary
-// search from H to K (Policarpo and Oliveira, "Relaxed Cone Stepping for Relief Mapping", GPU
-// Gems 3 ch. 18, 2007, section 18.4.2, listing 18-3, figure 18-10), in the relief shell; the
-// self-shadow ray is relaxed-cone marched on the material's depth.
+// search of [last outside sample, K] (Policarpo and Oliveira, "Relaxed Cone Stepping for Relief
+// Mapping", GPU Gems 3 ch. 18, 2007, section 18.4.2, listing 18-3, figure 18-10; the chapter
+// starts at H), bracket-safe (cone.glsl cone_finish), in the relief shell; the self-shadow ray is
+// relaxed-cone searched on the material's depth.
 
 // Parameters, schema order.
 const int kSteps = 0;
 const int kBinarySteps = 1;
 const int kDepthScale = 2;
 const int kShadowStepsParam = 3;
+const int kFallbackSteps = 4;
 
 #include "relief_shell.glsl"
 #include "cone.glsl"
@@ -16,13 +18,14 @@ const int kShadowStepsParam = 3;
 SearchHit search(FragIn in_, TextureDepth depth, vec3 V, vec2 ds) {
   if (!has_texture[kConeSlot]) return SearchHit(in_.uv, 0.0, 0.0, 0.0);
   ConeSource cone = make_cone_source(depth, false);
-  return relaxed_cone_search(depth, cone, in_.uv, ds, int(material.params[kSteps]),
-                             int(material.params[kBinarySteps]));
+  if (cone.quad) cone = aim(cone, ds);
+  return cone_search(depth, cone, in_.uv, ds, int(material.params[kSteps]),
+                     int(material.params[kFallbackSteps]), int(material.params[kBinarySteps]));
 }
 
 float shadow(TextureDepth depth, SearchHit hit, vec2 dl, float lz, inout ShadeOut o) {
   if (!has_texture[kConeSlot]) return 1.0;
   ConeSource cone = make_cone_source(depth, false);
   return cone_light_visibility(depth, cone, hit, dl, lz, int(material.params[kShadowStepsParam]),
-                               o);
+                               int(material.params[kFallbackSteps]), o);
 }

@@ -12,7 +12,10 @@
 //     texture-space ray of shaders_cpp/ray.h), for every technique that searches along the ray
 //     (parallax's single offset only has to point along it, and so does relief_quadric's hit on a
 //     curved quadric: its ray bends in depth, not in uv);
-//   - the conservative cone techniques (cone, cone_quad) never hit later than `exact`.
+//   - the cone techniques (cone, cone_quad, relaxed_cone) never hit earlier than `exact`: before
+//     exact's first hit the ray is in the air, and their hits are samples at or under the surface
+//     (issue 22; until then conservative cones were never *later* than exact, and stopped in the
+//     air where they ran out of steps; their fallback may now reach a later layer, docs/cones.md).
 // A failure prints the case (seed, plugin, lanes, ray, texture, parameters) to rerun it alone.
 #include <gtest/gtest.h>
 
@@ -273,11 +276,13 @@ struct PacketCase {
 bool hit_on_ray(const std::string& name, const Case& c) {
   return name != "parallax" && (name != "relief_quadric" || c.quadric == 0);
 }
-bool conservative(const std::string& name) { return name == "cone" || name == "cone_quad"; }
+bool cone_family(const std::string& name) {
+  return name == "cone" || name == "cone_quad" || name == "relaxed_cone";
+}
 
 constexpr int kCases = 48;
 
-TEST(Properties, EveryTechniqueFiniteOnTheRayAndConservativeNeverLate) {
+TEST(Properties, EveryTechniqueFiniteOnTheRayAndConesNeverInTheAir) {
   const PluginDescriptor* exact = PluginRegistry::global().find("exact");
   ASSERT_NE(exact, nullptr);
   int checked_on_ray = 0, checked_conservative = 0;
@@ -295,7 +300,7 @@ TEST(Properties, EveryTechniqueFiniteOnTheRayAndConservativeNeverLate) {
                                   ", " + c.describe();
         auto o = s.shade(e, scalar);
         const FragmentOutput* ex = nullptr;
-        if (conservative(p->name) && regular) {
+        if (cone_family(p->name) && regular) {
           if (!exact_out[scalar]) exact_out[scalar] = exact_case.shade(0, scalar);
           ex = exact_out[scalar].get();
         }
@@ -333,8 +338,8 @@ TEST(Properties, EveryTechniqueFiniteOnTheRayAndConservativeNeverLate) {
             EXPECT_GE(ou * v.x + ov * v.y, -tol) << where << " lane " << ln;
           }
           if (ex) {
-            // never later than exact (cone maps are rounded down, so no tolerance beyond float)
-            EXPECT_LE(hd, ex->aov[kAovOffset[1]][ln] + 1e-4f) << where << " lane " << ln;
+            // never earlier than exact: nothing but air lies before its first hit
+            EXPECT_GE(hd, ex->aov[kAovOffset[1]][ln] - 1e-4f) << where << " lane " << ln;
             ++checked_conservative;
           }
         }
