@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "apps/commands.h"
+#include "apps/version.h"
 #include "rasterizer/output_file.h"
 
 namespace relief::cli {
@@ -75,7 +76,10 @@ int run(int argc, char** argv) {
   CLI::App app{"relief: per-fragment displacement (relief) mapping renderer"};
   app.require_subcommand(1);
   app.set_help_all_flag("--help-all", "Show help for every subcommand");
-  std::vector<Action> actions(8);
+  app.set_version_flag(
+      "--version", [] { return build_info_text(); },
+      "Print the version, commit, build type, SIMD path and backends");
+  std::vector<Action> actions(9);
   register_render(app, actions[0]);
   register_techniques(app, actions[1]);
   register_scenes(app, actions[2]);
@@ -84,12 +88,16 @@ int run(int argc, char** argv) {
   register_bake(app, actions[5]);
   register_export(app, actions[6]);
   register_bench(app, actions[7]);
+  register_version(app, actions[8]);
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
     return app.exit(e);
   } catch (const CLI::CallForAllHelp& e) {
     return app.exit(e);
+  } catch (const CLI::CallForVersion& e) {
+    std::fputs(e.what(), stdout);  // the text ends with a newline
+    return 0;
   } catch (const CLI::ParseError& e) {
     // One line, usage exit code; a first word that is no subcommand is named.
     if (argc > 1 && argv[1][0] != '-' && app.get_subcommands().empty())

@@ -1,6 +1,7 @@
 // `relief bake`: normal maps and cone maps from a depth (or height) image.
 //   relief bake DEPTH_IMAGE -o OUT (--normal | --cone conservative|quad|relaxed) [--height]
-//               [--depth-scale s] [--max-ratio R] [--wrap] [--bilinear] [--threads N]
+//               [--depth-scale s (--normal only)] [--max-ratio R] [--wrap] [--bilinear] [--threads
+//               N]
 // Output by extension through scene/image_io.h:
 //   --normal: RGB = n * 0.5 + 0.5 (tangent space, bake/normal_map.h), stored linear: .exr float,
 //             .png / .tif with the bytes of the RGBA8 texture (8-bit PNG readers that keep bytes as
@@ -39,6 +40,7 @@ struct BakeArgs {
   std::string cone;
   bool height = false;
   float depth_scale = 0.1f;
+  bool depth_scale_given = false;  // --depth-scale on the command line
   float max_ratio = 1.0f;
   bool wrap = false;
   bool bilinear = false;
@@ -98,6 +100,12 @@ int run_bake(const BakeArgs& a) {
     return run_bake_dual(a.input, a.output, a.size, a.grow, a.threads, a.allow_outside_scene_dir);
   if (a.normal == !a.cone.empty())
     return fail("bake: choose exactly one of --normal or --cone KIND", 2);
+  if (a.depth_scale_given && !a.normal)
+    return fail(
+        "bake: --depth-scale applies to --normal only (a cone map is in depth-map units: "
+        "ratios of texels to depth 0..1; the material's depth_scale applies at render "
+        "time)",
+        2);
   if (!(a.depth_scale > 0.0f) || !std::isfinite(a.depth_scale))
     return fail("bake: --depth-scale must be a positive finite number", 2);
   if (!(a.max_ratio > 0.0f) || !std::isfinite(a.max_ratio) || a.max_ratio > 65504.0f)
@@ -225,8 +233,10 @@ void register_bake(CLI::App& app, Action& action) {
   sub->add_option("--cone", args->cone, "Bake a cone map: conservative, quad or relaxed")
       ->check(CLI::IsMember({"conservative", "quad", "relaxed"}));
   sub->add_flag("--height", args->height, "The input is a height map (1 = top): depth = 1 - h");
-  sub->add_option("--depth-scale", args->depth_scale,
-                  "Relief depth in uv units, for --normal (default 0.1)");
+  CLI::Option* depth_scale =
+      sub->add_option("--depth-scale", args->depth_scale,
+                      "--normal only: relief depth in uv units (default 0.1); cone maps do not "
+                      "depend on it");
   sub->add_option("--max-ratio", args->max_ratio, "Clamp cone ratios (default 1)");
   sub->add_flag("--wrap", args->wrap, "The map tiles (wrap at the borders); default clamp");
   sub->add_flag("--bilinear", args->bilinear,
@@ -240,7 +250,10 @@ void register_bake(CLI::App& app, Action& action) {
   sub->add_option("--size", args->size, "--dual: map size in texels (default 256)");
   sub->add_option("--grow", args->grow,
                   "--dual: the maps' square over the mesh's x-y bounds, times this (>= 1)");
-  sub->callback([&action, args] { action = [args] { return run_bake(*args); }; });
+  sub->callback([&action, args, depth_scale] {
+    args->depth_scale_given = depth_scale->count() > 0;
+    action = [args] { return run_bake(*args); };
+  });
 }
 
 }  // namespace relief::cli

@@ -2,6 +2,7 @@
 #include <cstdio>
 
 #include "apps/commands.h"
+#include "apps/scene_source.h"
 #include "plugins/registry.h"
 #include "scene/builtin.h"
 
@@ -30,7 +31,7 @@ void register_techniques(CLI::App& app, Action& action) {
   sub->callback([&action, plugins] {
     action = [plugins] {
       for (const auto& p : *plugins) {
-        Status s = PluginRegistry::global().load(p);
+        Status s = load_plugin_arg(p);
         if (!s.ok()) return fail(s.message(), s.exit_code());
       }
       for (const PluginDescriptor* p : PluginRegistry::global().all()) {

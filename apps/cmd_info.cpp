@@ -4,6 +4,7 @@
 #include <thread>
 
 #include "apps/commands.h"
+#include "apps/version.h"
 #include "gl/context.h"
 #include "gl/gl_backend.h"
 #include "gl/shader.h"
@@ -17,7 +18,7 @@ void register_info(CLI::App& app, Action& action) {
   sub->add_option("--gpu", *gpu, "Probe this EGL device index for the GL backend (-1 = default)");
   sub->callback([&action, gpu] {
     action = [gpu] {
-      std::printf("relief %s\n", "0.1.0");
+      std::printf("%s", build_info_text().c_str());
       const unsigned hw = std::thread::hardware_concurrency();
       std::printf("cpu: available, %u threads (hardware concurrency)\n", hw ? hw : 1u);
 
@@ -51,6 +52,22 @@ void register_info(CLI::App& app, Action& action) {
       std::printf("  shaders:  %s\n", gl::shader_source_location().c_str());
       std::printf("  GLSL twins: %s\n", twins.empty() ? "(none)" : twins.c_str());
       if (!missing.empty()) std::printf("  no twin (cpu only): %s\n", missing.c_str());
+      return 0;
+    };
+  });
+}
+
+void register_version(CLI::App& app, Action& action) {
+  auto* sub = app.add_subcommand(
+      "version", "Print the version, commit, build type, SIMD path and backends (as --version)");
+  auto json = std::make_shared<bool>(false);
+  sub->add_flag("--json", *json, "As one JSON object (the \"build\" object of --stats)");
+  sub->callback([&action, json] {
+    action = [json] {
+      if (*json)
+        std::printf("%s\n", build_info_json().dump().c_str());
+      else
+        std::printf("%s", build_info_text().c_str());
       return 0;
     };
   });

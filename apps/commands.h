@@ -21,6 +21,7 @@ void register_info(CLI::App& app, Action& action);
 void register_bake(CLI::App& app, Action& action);
 void register_export(CLI::App& app, Action& action);
 void register_bench(CLI::App& app, Action& action);
+void register_version(CLI::App& app, Action& action);  // apps/cmd_info.cpp
 
 // Prints "relief: <message>" to stderr as one line and returns the exit code for `kind`.
 int fail(const std::string& message, int exit_code = 1);

@@ -1,23 +1,44 @@
 #include "apps/frames.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <regex>
 
 namespace relief::cli {
 
-Result<FrameRange> parse_frames(const std::string& text) {
-  static const std::regex re("^([0-9]{1,7})(-([0-9]{1,7}))?$");
-  std::smatch m;
+Result<FrameList> parse_frames(const std::string& text) {
+  static const std::regex item_re("^([0-9]{1,7})(-([0-9]{1,7})(:([0-9]{1,7}))?)?$");
   const std::string expected =
-      "--frames: expected A-B with 0 <= A <= B <= " + std::to_string(kMaxFrame) +
-      " (e.g. 1-240) or one frame N, got '" + text + "'";
-  if (!std::regex_match(text, m, re)) return Status::usage(expected);
-  FrameRange r;
-  r.first = std::stoi(m[1]);
-  r.last = m[3].matched ? std::stoi(m[3]) : r.first;
-  if (r.last < r.first) return Status::usage(expected);
-  return r;
+      "--frames: expected N, A-B or A-B:S, comma-separated (e.g. 1,5,10-20,30-90:3), with 0 <= "
+      "A <= B <= " +
+      std::to_string(kMaxFrame) + " and S >= 1, got '" + text + "'";
+  FrameList list;
+  size_t begin = 0;
+  while (true) {
+    const size_t comma = text.find(',', begin);
+    const std::string item =
+        text.substr(begin, comma == std::string::npos ? std::string::npos : comma - begin);
+    std::smatch m;
+    if (!std::regex_match(item, m, item_re)) return Status::usage(expected);
+    const int a = std::stoi(m[1]);
+    const int b = m[3].matched ? std::stoi(m[3]) : a;
+    const int step = m[5].matched ? std::stoi(m[5]) : 1;
+    if (b < a || step < 1) return Status::usage(expected);
+    const long long n = (static_cast<long long>(b) - a) / step + 1;
+    if (static_cast<long long>(list.frames.size()) + n > kMaxFrameCount)
+      return Status::usage("--frames: more than " + std::to_string(kMaxFrameCount) +
+                           " frames in '" + text + "'");
+    for (long long f = a; f <= b; f += step) list.frames.push_back(static_cast<int>(f));
+    if (comma == std::string::npos) break;
+    begin = comma + 1;
+  }
+  std::sort(list.frames.begin(), list.frames.end());
+  const auto twice = std::adjacent_find(list.frames.begin(), list.frames.end());
+  if (twice != list.frames.end())
+    return Status::usage("--frames: frame " + std::to_string(*twice) + " is named twice in '" +
+                         text + "'");
+  return list;
 }
 
 Result<Shard> parse_shard(const std::string& text) {
@@ -33,12 +54,10 @@ Result<Shard> parse_shard(const std::string& text) {
   return s;
 }
 
-std::vector<int> shard_frames(const FrameRange& range, const Shard& s) {
-  const long long n = range.count();
+std::vector<int> shard_frames(const FrameList& list, const Shard& s) {
+  const long long n = list.count();
   const long long begin = n * s.index / s.count, end = n * (s.index + 1) / s.count;
-  std::vector<int> frames;
-  for (long long i = begin; i < end; ++i) frames.push_back(range.first + static_cast<int>(i));
-  return frames;
+  return std::vector<int>(list.frames.begin() + begin, list.frames.begin() + end);
 }
 
 namespace {

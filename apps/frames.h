@@ -11,14 +11,18 @@
 
 namespace relief::cli {
 
-// `--frames A-B` (or `--frames N`, one frame): 0 <= A <= B <= kMaxFrame.
-struct FrameRange {
-  int first = 0;
-  int last = 0;
-  int count() const { return last - first + 1; }
+// `--frames LIST`: comma-separated items, each N, A-B or A-B:S (every S-th frame from A up to
+// B: 30-90:3 is 30, 33, ..., 90), 0 <= A <= B <= kMaxFrame, 1 <= S <= kMaxFrame; the frames in
+// ascending order, each once (a frame named twice is an error), at most kMaxFrameCount in all.
+struct FrameList {
+  std::vector<int> frames;  // ascending, distinct, not empty
+  int first() const { return frames.front(); }
+  int last() const { return frames.back(); }
+  int count() const { return static_cast<int>(frames.size()); }
 };
 inline constexpr int kMaxFrame = 9999999;
-Result<FrameRange> parse_frames(const std::string& text);
+inline constexpr int kMaxFrameCount = 1000000;
+Result<FrameList> parse_frames(const std::string& text);
 
 // `--shard I/N`: 0 <= I < N <= 100000 (I is 0-based, as SLURM_ARRAY_TASK_ID with --array=0-(N-1)
 // and JOB_COMPLETION_INDEX of a Kubernetes indexed job are).
@@ -28,10 +32,10 @@ struct Shard {
 };
 Result<Shard> parse_shard(const std::string& text);
 
-// The frames shard `s` renders: a contiguous block, the blocks of shards 0..N-1 in order cover
-// the range exactly once (shard i takes frames first + floor(i n / N) .. first + floor((i+1) n / N)
-// - 1 of n frames; a shard may get none when N > n).
-std::vector<int> shard_frames(const FrameRange& range, const Shard& s);
+// The frames shard `s` renders: a contiguous block of the list, the blocks of shards 0..N-1 in
+// order cover it exactly once (shard i takes list entries floor(i n / N) .. floor((i+1) n / N) - 1
+// of n frames; a shard may get none when N > n).
+std::vector<int> shard_frames(const FrameList& list, const Shard& s);
 
 // An output name with one printf-style frame conversion: %d, %Nd or %0Nd (N in 1..9); %% is a
 // literal %. Any other use of % is an error naming `flag`. has_pattern is false when the name has

@@ -1,5 +1,7 @@
 #include "apps/output.h"
 
+#include <sys/stat.h>
+
 #include <regex>
 
 #include "rasterizer/output_file.h"
@@ -14,6 +16,9 @@ Status write_text_atomic(const std::string& path, const std::string& text) {
 }
 
 Status OutputCheck::add(const std::string& option, const std::string& path, Kind kind) {
+  struct stat st;  // "dir/" names a folder, not a file: say so when it is one
+  if (!path.empty() && path.back() == '/' && ::stat(path.c_str(), &st) == 0 && S_ISDIR(st.st_mode))
+    return Status::error(printable(path) + ": is a directory (" + option + " takes a file name)");
   RELIEF_RETURN_IF_ERROR(check_output_path(path));
   if (kind == Kind::kImage) RELIEF_RETURN_IF_ERROR(check_image_extension(path));
   const std::string id = output_identity(path);

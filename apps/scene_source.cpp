@@ -1,6 +1,14 @@
 #include "apps/scene_source.h"
 
+#include <sys/stat.h>
+
+#include <algorithm>
+#include <cctype>
+#include <cerrno>
+
 #include "gl/gl_backend.h"
+#include "plugins/registry.h"
+#include "rasterizer/safe_file.h"
 #include "scene/builtin.h"
 #include "scene/gltf.h"
 
@@ -10,14 +18,59 @@ std::string default_scene_source() {
   return default_scene_name();
 }
 
+namespace {
+
+// The extension of the last path component, lower case ("" when none; a leading dot is a hidden
+// file's name, not an extension).
+std::string extension_of(const std::string& name) {
+  const size_t slash = name.find_last_of('/');
+  const std::string base = slash == std::string::npos ? name : name.substr(slash + 1);
+  const size_t dot = base.find_last_of('.');
+  if (dot == std::string::npos || dot == 0) return "";
+  std::string e = base.substr(dot);
+  std::transform(e.begin(), e.end(), e.begin(), [](unsigned char c) { return std::tolower(c); });
+  return e;
+}
+
+bool is_builtin_name(const std::string& name) {
+  for (const BuiltinSceneInfo& b : builtin_scenes())
+    if (b.name == name) return true;
+  return false;
+}
+
+}  // namespace
+
+bool is_scene_path(const std::string& name) {
+  if (name.find('/') != std::string::npos || !extension_of(name).empty()) return true;
+  struct stat st;
+  return !is_builtin_name(name) && ::stat(name.c_str(), &st) == 0;
+}
+
+Status check_scene_source(const std::string& name) {
+  if (!is_scene_path(name))  // the error of an unknown name lists the built-in scenes
+    return is_builtin_name(name) ? Status() : make_builtin_scene(name).status();
+  struct stat st;
+  const bool exists = ::stat(name.c_str(), &st) == 0;
+  const int stat_errno = exists ? 0 : errno;
+  const std::string shown = printable(name);
+  if (exists && S_ISDIR(st.st_mode)) return Status::error(shown + ": is a directory");
+  const std::string ext = extension_of(name);
+  if (ext != ".gltf" && ext != ".glb")
+    return Status::error(shown + ": unsupported scene format" +
+                         (ext.empty() ? std::string(" (no extension; expected")
+                                      : " '" + printable(ext) + "' (expected") +
+                         " .gltf or .glb)");
+  if (!exists && (stat_errno == ENOENT || stat_errno == ENOTDIR))
+    return Status::error(shown + ": no such file");
+  return {};  // the loader reports anything else (permissions, FIFOs, ...)
+}
+
 Result<Scene> load_scene_source(const std::string& name, bool allow_outside_scene_dir) {
-  const auto ends_with = [&](const char* ext) {
-    const std::string e(ext);
-    return name.size() > e.size() && name.compare(name.size() - e.size(), e.size(), e) == 0;
-  };
+  RELIEF_RETURN_IF_ERROR(check_scene_source(name));
   GltfLoadOptions options;
   options.allow_outside_scene_dir = allow_outside_scene_dir;
-  if (ends_with(".gltf") || ends_with(".glb")) return load_gltf(name, options);
+  const std::string ext = extension_of(name);
+  if (is_scene_path(name) && (ext == ".gltf" || ext == ".glb")) return load_gltf(name, options);
   return make_builtin_scene(name);
 }
 
@@ -36,6 +89,13 @@ Result<int> resolve_camera(const Scene& scene, const std::string& name_or_index)
     known += (known.empty() ? "" : ", ") + std::to_string(i) + " '" + scene.cameras[i].name + "'";
   return Status::usage("--camera: scene '" + scene.name + "' has no camera '" + name_or_index +
                        "' (cameras: " + (known.empty() ? "none" : known) + ")");
+}
+
+Status load_plugin_arg(const std::string& file) {
+  struct stat st;
+  if (file.find('/') == std::string::npos && ::stat(file.c_str(), &st) == 0)
+    return PluginRegistry::global().load("./" + file);
+  return PluginRegistry::global().load(file);
 }
 
 Result<std::unique_ptr<Backend>> make_backend(const std::string& name, int threads, int gpu) {

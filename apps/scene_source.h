@@ -11,7 +11,17 @@
 namespace relief::cli {
 
 std::string default_scene_source();
-// A name ending in .gltf or .glb loads that file (scene/gltf.h); any other is a built-in scene.
+// Whether `name` names a file rather than a built-in scene: it holds a '/', its last component
+// has an extension ("a.obj", ".hidden" does not count), or it is no built-in name and something
+// of that name exists.
+bool is_scene_path(const std::string& name);
+// Before anything else runs: a scene path (is_scene_path) that cannot be a scene file is an
+// input error (exit 1) naming it: "<path>: is a directory", "<path>: unsupported scene format
+// '.obj' (expected .gltf or .glb)", "<path>: no such file"; any other name must be a built-in
+// scene ("unknown scene 'x' (built-in scenes: ...)").
+Status check_scene_source(const std::string& name);
+// A path ending in .gltf or .glb (any case) loads that file (scene/gltf.h); any other name is a
+// built-in scene; check_scene_source() first.
 // allow_outside_scene_dir: `--allow-outside-scene-dir` (the file's URIs may leave its folder).
 Result<Scene> load_scene_source(const std::string& name_or_path,
                                 bool allow_outside_scene_dir = false);
@@ -21,6 +31,9 @@ inline constexpr const char* kAllowOutsideSceneDirHelp =
 // `--camera NAME|INDEX`: an index into Scene::cameras, or the first camera with that name; empty
 // picks camera 0. Anything else is a usage error listing the scene's cameras.
 Result<int> resolve_camera(const Scene& scene, const std::string& name_or_index);
+// `--plugin FILE`: loads FILE into PluginRegistry::global(). A name without '/' that exists here
+// is this folder's file ("my.so" is "./my.so"; dlopen would search the library path instead).
+Status load_plugin_arg(const std::string& file);
 // "cpu" or "gl"; gpu is the EGL device index for gl (-1: first usable).
 Result<std::unique_ptr<Backend>> make_backend(const std::string& name, int threads, int gpu);
 

@@ -152,6 +152,14 @@ void install_output_signal_handlers() {
   });
 }
 
+int register_signal_removal(const std::string& path) {
+  return register_temporary(path);
+}
+
+void unregister_signal_removal(int slot) {
+  unregister_temporary(slot);
+}
+
 Status check_output_path(const std::string& path) {
   if (path.empty()) return Status::error("'': not a file name");
   const fs::path p(path);

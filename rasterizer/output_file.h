@@ -24,6 +24,12 @@ namespace relief {
 // the process. Idempotent; call once at program start.
 void install_output_signal_handlers();
 
+// Registers `path` (an absolute path: e.g. the empty claim file of `relief render --placeholder`)
+// for removal by the SIGTERM / SIGINT / SIGHUP handler above, until unregister_signal_removal;
+// returns the slot, or -1 when too many are registered (the path is then left on a signal).
+int register_signal_removal(const std::string& path);
+void unregister_signal_removal(int slot);
+
 // Checks that `path` can be written before any work is done: it names a file (not "dir/"), its
 // folder exists, is a folder and is writable, and `path` is not a directory, device, FIFO or
 // socket (a symbolic link is replaced by the file, never written through). Errors (exit 1) start

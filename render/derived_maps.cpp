@@ -143,7 +143,9 @@ void write_cache(const fs::path& path, Header h, const ConeRatios& r) {
   if (!s.ok()) warn(s.message() + " (the cone-map cache; continuing without)");
 }
 
-std::mutex g_mutex;
+std::mutex g_mutex;  // guards the caches, the counters and the progress hook
+DerivedMapCounters g_counters;
+DerivedMapProgress g_progress;
 std::map<uint64_t, TexturePtr>& memory_cache() {
   static auto* m = new std::map<uint64_t, TexturePtr>();
   return *m;
@@ -165,6 +167,16 @@ std::string derived_map_cache_dir() {
   if (const char* e = std::getenv("XDG_CACHE_HOME"); e && *e) return std::string(e) + "/relief";
   if (const char* e = std::getenv("HOME"); e && *e) return std::string(e) + "/.cache/relief";
   return "";
+}
+
+DerivedMapCounters derived_map_counters() {
+  std::lock_guard<std::mutex> lock(g_mutex);
+  return g_counters;
+}
+
+void set_derived_map_progress(DerivedMapProgress progress) {
+  std::lock_guard<std::mutex> lock(g_mutex);
+  g_progress = std::move(progress);
 }
 
 void clear_derived_map_memory_cache() {
@@ -212,8 +224,10 @@ Result<DerivedMap> derive_map(const Material& m, const std::string& slot) {
                            "x" + std::to_string(h) + (o.wrap ? " (wrap)" : " (clamp)");
   // One bake at a time: a second material with the same depth waits and then hits the cache.
   std::lock_guard<std::mutex> lock(g_mutex);
-  if (auto hit = memory_cache().find(want.key); hit != memory_cache().end())
+  if (auto hit = memory_cache().find(want.key); hit != memory_cache().end()) {
+    ++g_counters.memory_hits;
     return DerivedMap{hit->second, slot + ": " + what + ", derived from depth (memory cache)"};
+  }
 
   const std::string dir = derived_map_cache_dir();
   char name[64];
@@ -223,18 +237,33 @@ Result<DerivedMap> derive_map(const Material& m, const std::string& slot) {
   ConeRatios ratios;
   std::string note;
   std::string why;
+  const auto ms_since = [](std::chrono::steady_clock::time_point t) {
+    return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t).count();
+  };
+  const auto t_read = std::chrono::steady_clock::now();
   if (!dir.empty() && read_cache(file, want, ratios, why)) {
+    ++g_counters.disk_hits;
+    g_counters.cache_ms += ms_since(t_read);
     note = slot + ": " + what + ", derived from depth (disk cache " + file.string() + ")";
   } else {
     if (!why.empty()) warn(why);
+    const std::string shown = what + " of material '" + m.name + "'";
+    if (g_progress) {
+      g_progress(shown, 0.0f);
+      o.progress = [&shown](float f) { g_progress(shown, f); };
+    }
     const auto t0 = std::chrono::steady_clock::now();
     ratios = bake_cone_ratios(depth, o);
-    const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    const double ms = ms_since(t0);
+    ++g_counters.baked;
+    g_counters.bake_ms += ms;
     char secs[32];
-    std::snprintf(secs, sizeof secs, "%.2f", s);
+    std::snprintf(secs, sizeof secs, "%.2f", ms / 1000.0);
     note = slot + ": " + what + ", baked from depth in " + secs + " s";
     if (!dir.empty()) {
+      const auto t_write = std::chrono::steady_clock::now();
       write_cache(file, want, ratios);
+      g_counters.cache_ms += ms_since(t_write);
       note += " (cached in " + dir + ")";
     }
   }

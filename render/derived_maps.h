@@ -17,6 +17,7 @@
 // stderr and a rebake, never an error.
 #pragma once
 
+#include <functional>
 #include <string>
 
 #include "rasterizer/status.h"
@@ -38,6 +39,22 @@ Result<DerivedMap> derive_map(const Material& material, const std::string& slot)
 
 // The disk-cache folder as the environment sets it ("" when there is none).
 std::string derived_map_cache_dir();
+
+// What derive_map() did since the process started (`relief render` reports each frame's share).
+struct DerivedMapCounters {
+  int baked = 0;          // maps baked
+  int memory_hits = 0;    // maps the memory cache held
+  int disk_hits = 0;      // maps read from the disk cache
+  double bake_ms = 0.0;   // wall time of the bakes (not of cache reads)
+  double cache_ms = 0.0;  // wall time of disk-cache reads and writes
+};
+DerivedMapCounters derived_map_counters();
+
+// Called around every bake, on the thread calling derive_map, one bake at a time: fraction 0
+// before it starts, non-decreasing fractions while it runs, 1 at its end. `what` names the map
+// and the material ("relaxed cone map 512x512 (wrap) of material 'bricks'"). Empty: none.
+using DerivedMapProgress = std::function<void(const std::string& what, float fraction)>;
+void set_derived_map_progress(DerivedMapProgress progress);
 
 // Forgets the memory cache (tests).
 void clear_derived_map_memory_cache();

@@ -46,16 +46,36 @@ bool same_pixels(const Image& a, const Image& b) {
 }
 
 TEST(Frames, ParsesRanges) {
-  Result<FrameRange> r = parse_frames("3-7");
+  Result<FrameList> r = parse_frames("3-7");
   ASSERT_TRUE(r.ok());
-  EXPECT_EQ(r->first, 3);
-  EXPECT_EQ(r->last, 7);
+  EXPECT_EQ(r->first(), 3);
+  EXPECT_EQ(r->last(), 7);
   EXPECT_EQ(r->count(), 5);
   r = parse_frames("12");
   ASSERT_TRUE(r.ok());
   EXPECT_EQ(r->count(), 1);
   for (const char* bad : {"", "7-3", "-1-3", "1-", "a-b", "1-2-3", "1--2", "12345678", " 1-2"})
     EXPECT_FALSE(parse_frames(bad).ok()) << bad;
+}
+
+TEST(Frames, ParsesListsWithSteps) {
+  Result<FrameList> r = parse_frames("1,5,10-20,30-90:3");
+  ASSERT_TRUE(r.ok()) << r.status().message();
+  std::vector<int> want{1, 5};
+  for (int f = 10; f <= 20; ++f) want.push_back(f);
+  for (int f = 30; f <= 90; f += 3) want.push_back(f);
+  EXPECT_EQ(r->frames, want);
+  r = parse_frames("40-50:4,2");  // sorted; the step stops at or before B
+  ASSERT_TRUE(r.ok());
+  EXPECT_EQ(r->frames, (std::vector<int>{2, 40, 44, 48}));
+  for (const char* bad : {"1,", ",1", "1,,2", "1-5:0", "1-5:", "1:2", "5,5", "1-10,10-12",
+                          "1-9:2,5", "0-9999999,0", "1;2", "1-2:3:4", "0-9999999"})
+    EXPECT_FALSE(parse_frames(bad).ok()) << bad;
+  const Result<FrameList> twice = parse_frames("3,1-4");
+  ASSERT_FALSE(twice.ok());
+  EXPECT_NE(twice.status().message().find("frame 3 is named twice"), std::string::npos)
+      << twice.status().message();
+  EXPECT_EQ(twice.status().exit_code(), 2);
 }
 
 TEST(Frames, FormatsNames) {
@@ -75,18 +95,19 @@ TEST(Frames, FormatsNames) {
 }
 
 TEST(Frames, ShardsCoverEveryFrameExactlyOnce) {
-  for (const FrameRange range : {FrameRange{0, 0}, FrameRange{1, 240}, FrameRange{5, 11}})
+  for (const char* text : {"0", "1-240", "5-11", "1,5,10-20,30-90:3"}) {
+    const FrameList list = *parse_frames(text);
     for (int n = 1; n <= 13; ++n) {
       std::vector<int> all;
       for (int i = 0; i < n; ++i) {
-        const std::vector<int> f = shard_frames(range, Shard{i, n});
-        // contiguous, balanced blocks
-        EXPECT_LE(f.size(), static_cast<size_t>(range.count() / n + 1));
+        const std::vector<int> f = shard_frames(list, Shard{i, n});
+        // contiguous, balanced blocks of the list
+        EXPECT_LE(f.size(), static_cast<size_t>(list.count() / n + 1));
         all.insert(all.end(), f.begin(), f.end());
       }
-      ASSERT_EQ(all.size(), static_cast<size_t>(range.count())) << n;
-      for (int k = 0; k < range.count(); ++k) EXPECT_EQ(all[k], range.first + k);
+      EXPECT_EQ(all, list.frames) << text << " in " << n;
     }
+  }
   for (const char* bad : {"", "2/2", "0/0", "1", "-1/2", "a/b", "0/100001", "1/2/3"})
     EXPECT_FALSE(parse_shard(bad).ok()) << bad;
   EXPECT_TRUE(parse_shard("99999/100000").ok());
@@ -186,10 +207,11 @@ TEST(FramesCli, ShardsWriteEachFrameOnce) {
 TEST(FramesCli, BadValuesAreOneLineUsageErrorsWithNothingWritten) {
   const std::string dir = fresh_dir("bad");
   const std::string out = " -o " + dir + "/b%04d.png --size 16x12 ";
-  for (const char* flags : {"--frames 5-3", "--frames x", "--frames -2", "--frames 1-2 --shard 2/2",
-                            "--frames 1-2 --shard 0/0", "--frames 1-2 --shard a", "--shard 0/2",
-                            "--spp 0", "--spp 3", "--spp 1000", "--exposure nan", "--exposure 30",
-                            "--exposure inf", "--exposure x", "--fps 0"}) {
+  for (const char* flags :
+       {"--frames 5-3", "--frames x", "--frames -2", "--frames 1,1", "--frames 1-4:0",
+        "--frames 1-2 --shard 2/2", "--frames 1-2 --shard 0/0", "--frames 1-2 --shard a",
+        "--shard 0/2", "--spp 0", "--spp 3", "--spp 1000", "--exposure nan", "--exposure 30",
+        "--exposure inf", "--exposure x", "--fps 0"}) {
     const CliRun r = run("render plane" + out + flags);
     EXPECT_EQ(r.code, 2) << flags << ": " << r.out;
     EXPECT_EQ(lines(r.out), 1) << flags << ": " << r.out;
