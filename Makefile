@@ -1,9 +1,11 @@
-# Top-level entry points. `make` builds; `make demo` and `make test` are the README's quick start.
+# Top-level entry points. `make` builds everything; `make demo` and `make test` are the README's
+# quick start. `make demo` builds only the relief CLI (its plugins are linked in), not the tests
+# and benchmarks; `make package` makes the Debian packages (docs/packaging.md).
 BUILD ?= build
 JOBS ?= $(shell nproc)
 CONFIG ?= Release
 
-.PHONY: all build deps demo test bench clean format
+.PHONY: all build deps demo test bench package clean format
 
 all: build
 
@@ -16,10 +18,10 @@ $(BUILD)/CMakeCache.txt:
 build: $(BUILD)/CMakeCache.txt
 	cmake --build $(BUILD) -j $(JOBS)
 
-demo: deps
-	@$(MAKE) --no-print-directory build
+demo: deps $(BUILD)/CMakeCache.txt
+	cmake --build $(BUILD) -j $(JOBS) --target relief
 	@mkdir -p out
-	@$(BUILD)/bin/relief render -o out/demo.png 
+	$(BUILD)/bin/relief render -o out/demo.png
 
 test: deps
 	@$(MAKE) --no-print-directory build
@@ -28,6 +30,12 @@ test: deps
 bench: deps
 	@$(MAKE) --no-print-directory build
 	$(BUILD)/bin/bench_raster
+
+# relief_<version>_<arch>.deb (CLI, man page, docs) and relief-dev_... (libraries, headers, CMake
+# package) in $(BUILD).
+package: deps $(BUILD)/CMakeCache.txt
+	cmake --build $(BUILD) -j $(JOBS) --target relief relief_man
+	cd $(BUILD) && cpack -G DEB
 
 format:
 	git ls-files '*.cpp' '*.h' | xargs clang-format -i
