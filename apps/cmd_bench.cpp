@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <ctime>
 #include <filesystem>
 #include <fstream>
 #include <memory>
@@ -13,6 +14,7 @@
 #include "apps/commands.h"
 #include "apps/output.h"
 #include "apps/scene_source.h"
+#include "apps/version.h"
 #include "plugins/registry.h"
 #include "rasterizer/safe_file.h"
 #include "sweep/sweep.h"
@@ -26,8 +28,10 @@ struct BenchArgs {
   int threads = 0;
   std::string angles = "0,30,60,75,85,89";
   std::string steps = "8,16,32,64";
+  int binary_steps = -1;
   std::string techniques;
   std::string fields = "bricks,pattern";
+  std::string lod = "level0";
   std::vector<std::string> depth_files;
   float depth_scale = 0.05f;
   bool height = false;
@@ -60,9 +64,11 @@ Result<std::vector<double>> parse_numbers(const std::string& flag, const std::st
   for (const std::string& item : split(text)) {
     char* end = nullptr;
     const double x = std::strtod(item.c_str(), &end);
-    if (end == item.c_str() || *end || !(x >= lo && x <= hi))
-      return Status::usage(flag + ": expected numbers in [" + std::to_string(static_cast<int>(lo)) +
-                           ", " + std::to_string(static_cast<int>(hi)) + "], got '" + item + "'");
+    if (end == item.c_str() || *end || !(x >= lo && x <= hi)) {
+      char range[64];  // the bounds the check uses, as the help text gives them (0..89.9)
+      std::snprintf(range, sizeof range, "[%g, %g]", lo, hi);
+      return Status::usage(flag + ": expected numbers in " + range + ", got '" + item + "'");
+    }
     v.push_back(x);
   }
   if (v.empty()) return Status::usage(flag + ": expected a comma-separated list");
@@ -87,6 +93,26 @@ std::string command_line() {
   }
   if (!arg.empty()) flush();
   return out;
+}
+
+// The CPU model and core count (machine_description() without the load average).
+std::string cpu_model() {
+  const std::string m = sweep::machine_description();
+  return m.substr(0, m.find(", load average"));
+}
+
+// The report's and the JSON's build metadata: apps/version.h, the date (UTC) and the CPU.
+std::vector<std::pair<std::string, std::string>> build_metadata() {
+  const BuildInfo b = build_info();
+  std::string backends;
+  for (const std::string& x : b.backends) backends += (backends.empty() ? "" : ", ") + x;
+  char date[32] = "";
+  const std::time_t now = std::time(nullptr);
+  std::tm utc{};
+  if (gmtime_r(&now, &utc)) std::strftime(date, sizeof date, "%Y-%m-%dT%H:%M:%SZ", &utc);
+  return {{"version", b.version},   {"commit", b.commit}, {"build_type", b.build_type},
+          {"compiler", b.compiler}, {"simd", b.simd},     {"simd_supported", b.simd_supported},
+          {"backends", backends},   {"date", date},       {"cpu", cpu_model()}};
 }
 
 // The --csv, --json and --report outputs, checked before the sweep runs (no output at all on
@@ -129,6 +155,8 @@ class Progress {
 
 int do_target(const BenchArgs& a, const sweep::Options& opt,
               const std::vector<sweep::Setting>& settings) {
+  if (opt.lods.size() != 1)
+    return fail("--lod: --target-error picks on one LOD mode (level0 or as-rendered), not both", 2);
   const std::string scene_name = a.scene.empty() ? default_scene_source() : a.scene;
   Result<Scene> scene = load_scene_source(scene_name, a.allow_outside_scene_dir);
   if (!scene.ok()) return fail(scene.status().message(), scene.status().exit_code());
@@ -187,10 +215,18 @@ int do_bench(BenchArgs& a) {
   if (a.threads < 0 || a.threads > 256) return fail("--threads: expected 0..256", 2);
   if (a.repeats < 1 || a.repeats > 1000) return fail("--repeats: expected 1..1000", 2);
   if (a.warmup < 0 || a.warmup > 100) return fail("--warmup: expected 0..100", 2);
+  if (a.sub->count("--binary-steps") && (a.binary_steps < 0 || a.binary_steps > 32))
+    return fail("--binary-steps: expected 0..32", 2);
   opt.threads = a.threads;
   opt.repeats = a.repeats;
   opt.warmup = a.warmup;
   opt.self_shadow = !a.no_self_shadow;
+  if (a.lod == "level0" || a.lod == "as-rendered")
+    opt.lods = {a.lod};
+  else if (a.lod == "both")
+    opt.lods = {sweep::kLodLevel0, sweep::kLodAsRendered};
+  else
+    return fail("--lod: expected level0, as-rendered or both, got '" + a.lod + "'", 2);
   Result<std::vector<double>> angles = parse_numbers("--angles", a.angles, 0.0, 89.9);
   if (!angles.ok()) return fail(angles.status().message(), 2);
   opt.angles = *angles;
@@ -212,7 +248,7 @@ int do_bench(BenchArgs& a) {
   s = check_outputs(a);
   if (!s.ok()) return fail(s.message(), s.exit_code());
   for (const std::string& p : a.plugins) {
-    Status ls = PluginRegistry::global().load(p);
+    Status ls = load_plugin_arg(p);  // a bare name is ./NAME
     if (!ls.ok()) return fail(ls.message(), ls.exit_code());
   }
 
@@ -230,22 +266,24 @@ int do_bench(BenchArgs& a) {
   }
   std::vector<sweep::Setting> settings;
   for (const std::string& t : techniques) {
-    for (sweep::Setting& st : sweep::settings_for(*PluginRegistry::global().find(t), step_counts))
+    for (sweep::Setting& st :
+         sweep::settings_for(*PluginRegistry::global().find(t), step_counts, a.binary_steps))
       settings.push_back(std::move(st));
   }
   if (target) return do_target(a, opt, settings);
 
   std::vector<sweep::Field> fields;
-  Result<std::vector<sweep::Field>> builtins = sweep::builtin_fields();
-  if (!builtins.ok()) return fail(builtins.status().message(), 1);
+  const std::vector<std::string>& known = sweep::builtin_field_names();
   for (const std::string& name : split(a.fields)) {
     if (name == "none") continue;
-    auto it = std::find_if(builtins->begin(), builtins->end(),
-                           [&](const sweep::Field& f) { return f.name == name; });
-    if (it == builtins->end())
-      return fail("--fields: unknown built-in height field '" + name + "' (bricks, pattern, none)",
-                  2);
-    fields.push_back(*it);
+    if (std::find(known.begin(), known.end(), name) == known.end()) {
+      std::string list;
+      for (const std::string& k : known) list += k + ", ";
+      return fail("--fields: unknown built-in height field '" + name + "' (" + list + "none)", 2);
+    }
+    Result<sweep::Field> f = sweep::builtin_field(name);
+    if (!f.ok()) return fail(f.status().message(), 1);
+    fields.push_back(std::move(f).value());
   }
   for (const std::string& file : a.depth_files) {
     Result<sweep::Field> f = sweep::field_from_file(file, a.depth_scale, a.height);
@@ -261,10 +299,10 @@ int do_bench(BenchArgs& a) {
   progress.finish();
   if (!r.ok()) return fail(r.status().message(), r.status().exit_code());
 
-  sweep::RunInfo info{command_line(), sweep::machine_description(), opt};
-  std::printf("%s\n%s, %dx%d, %d threads (0 = all), %d warm-up + %d timed frames per row\n",
-              info.machine.c_str(), r->cpu_device.c_str(), opt.width, opt.height, opt.threads,
-              opt.warmup, opt.repeats);
+  sweep::RunInfo info{command_line(), sweep::machine_description(), opt, build_metadata()};
+  // The device names its thread count ("cpu (2 threads)"), --threads 0 resolved.
+  std::printf("%s\n%s, %dx%d, %d warm-up + %d timed frames per row\n", info.machine.c_str(),
+              r->cpu_device.c_str(), opt.width, opt.height, opt.warmup, opt.repeats);
   if (!r->gl_device.empty()) std::printf("gl: %s\n", r->gl_device.c_str());
   std::printf("%s", sweep::format_table(r->rows).c_str());
   for (const std::string& n : r->notes) std::printf("%s\n", n.c_str());
@@ -300,9 +338,16 @@ void register_bench(CLI::App& app, Action& action) {
       ->capture_default_str();
   sub->add_option("--steps", a->steps, "Step counts of techniques with a `steps` parameter")
       ->capture_default_str();
+  sub->add_option("--binary-steps", a->binary_steps,
+                  "Binary steps of every technique that has them (default: each one's own)");
   sub->add_option("--techniques", a->techniques,
                   "Comma-separated techniques (default: all with a depth map)");
-  sub->add_option("--fields", a->fields, "Built-in height fields: bricks, pattern, none")
+  sub->add_option("--fields", a->fields,
+                  "Built-in height fields: bricks, pattern, thin, spikes, ramp, none")
+      ->capture_default_str();
+  sub->add_option("--lod", a->lod,
+                  "level0 (depth map without mips), as-rendered (with its mips and the "
+                  "material's filter; errors against exact at level 0) or both")
       ->capture_default_str();
   sub->add_option("--depth", a->depth_files, "Also sweep this depth image (repeatable)");
   sub->add_option("--depth-scale", a->depth_scale, "Relief depth of --depth images, uv units")
@@ -315,7 +360,8 @@ void register_bench(CLI::App& app, Action& action) {
   sub->add_flag("--quick", a->quick, "Small sweep: 128x128, angles 0,60,85, steps 8,32, 3 repeats");
   sub->add_option("--csv", a->csv, "Write the rows as CSV (columns: docs/accuracy.md)");
   sub->add_option("--json", a->json, "Write the rows, machine and command as JSON");
-  sub->add_option("--report", a->report, "Write DIR/index.html: Pareto plot, images, rows");
+  sub->add_option("--report", a->report,
+                  "Write DIR/index.html: per-angle Pareto plots, tables, images, sortable rows");
   sub->add_option(
       "--target-error", a->target_error,
       "Pick per material of --scene the cheapest setting with p99 hit error under E texels");

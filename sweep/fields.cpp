@@ -37,17 +37,114 @@ TexturePtr depth_colour(const Texture& depth) {
   return t;
 }
 
+// A deterministic hash of (i, j, salt) to [0, 1) (lowbias32), the same on every platform.
+double hash01(uint32_t i, uint32_t j, uint32_t salt) {
+  uint32_t x = i * 0x9E3779B1u ^ (j + 0x7F4A7C15u) * 0x85EBCA77u ^ salt * 0xC2B2AE3Du;
+  x ^= x >> 16;
+  x *= 0x7feb352du;
+  x ^= x >> 15;
+  x *= 0x846ca68bu;
+  x ^= x >> 16;
+  return static_cast<double>(x) / 4294967296.0;
+}
+
+// Periodic distance between texel coordinates a and b on a ring of n texels.
+double ring_dist(double a, double b, int n) {
+  double d = std::fabs(a - b);
+  return std::min(d, n - d);
+}
+
 }  // namespace
 
-Result<std::vector<Field>> builtin_fields() {
-  std::vector<Field> out;
-  for (const auto& [scene, name] :
-       {std::pair{"plane", "bricks"}, std::pair{"pattern", "pattern"}}) {
-    Result<Scene> s = make_builtin_scene(scene);
+Result<Texture> make_generated_depth(const std::string& name, int size) {
+  if (size < 16 || (size & (size - 1)) != 0)
+    return Status::usage(name + ": generated field size must be a power of two >= 16");
+  const int n = size;
+  std::vector<float> d(static_cast<size_t>(n) * n, 1.0f);
+  auto at = [&](int i, int j) -> float& { return d[static_cast<size_t>(j) * n + i]; };
+  if (name == "thin") {
+    // tests/shaders_cpp/field_fixture.h thin_walls on a depth-1 floor: walls every 8 texels,
+    // 3 % of the floor texels one-texel pillars reaching 0 to 0.1
+    for (int j = 0; j < n; ++j)
+      for (int i = 0; i < n; ++i) {
+        float v = 1.0f;
+        if (i % 8 == 0 || j % 8 == 0)
+          v = 0.0f;
+        else if (hash01(i, j, 1) < 0.03)
+          v = static_cast<float>(0.1 * hash01(i, j, 2));
+        at(i, j) = v;
+      }
+  } else if (name == "spikes") {
+    // one spike per 32 x 32 cell, centre jittered by up to 6 texels; cones (round) and square
+    // pyramids alternate at random; base radius 6 to 12 texels, flat tip 1 to 3 texels wide
+    const int cell = 32, cells = n / cell > 0 ? n / cell : 1;
+    struct Spike {
+      double x, y, r, tip;
+      bool cone;
+    };
+    std::vector<Spike> spikes;
+    for (int cj = 0; cj < cells; ++cj)
+      for (int ci = 0; ci < cells; ++ci) {
+        Spike s;
+        s.x = ci * cell + cell * 0.5 + (hash01(ci, cj, 3) - 0.5) * 12.0;
+        s.y = cj * cell + cell * 0.5 + (hash01(ci, cj, 4) - 0.5) * 12.0;
+        s.r = 6.0 + 6.0 * hash01(ci, cj, 5);
+        s.tip = 0.5 * (1 + static_cast<int>(hash01(ci, cj, 6) * 3.0));  // half width 0.5..1.5
+        s.cone = hash01(ci, cj, 7) < 0.5;
+        spikes.push_back(s);
+      }
+    for (const Spike& s : spikes) {  // each over its own footprint (periodic)
+      const int r = static_cast<int>(std::ceil(s.r)) + 1;
+      for (int y = static_cast<int>(s.y) - r; y <= static_cast<int>(s.y) + r; ++y)
+        for (int x = static_cast<int>(s.x) - r; x <= static_cast<int>(s.x) + r; ++x) {
+          const int i = ((x % n) + n) % n, j = ((y % n) + n) % n;
+          const double dx = ring_dist(i + 0.5, s.x, n), dy = ring_dist(j + 0.5, s.y, n);
+          const double dist = s.cone ? std::hypot(dx, dy) : std::max(dx, dy);
+          const float v = static_cast<float>(std::clamp((dist - s.tip) / (s.r - s.tip), 0.0, 1.0));
+          at(i, j) = std::min(at(i, j), v);
+        }
+    }
+  } else if (name == "ramp") {
+    for (int j = 0; j < n; ++j)
+      for (int i = 0; i < n; ++i)
+        at(i, j) = static_cast<float>(0.1 + 0.6 * (i + 0.5) / n + (j >= n / 2 ? 0.3 : 0.0));
+  } else {
+    return Status::usage("'" + name + "' is not a generated field (thin, spikes, ramp)");
+  }
+  return Texture::from_floats(TexFormat::kR32F, n, n, d.data());
+}
+
+const std::vector<std::string>& builtin_field_names() {
+  static const std::vector<std::string> names = {"bricks", "pattern", "thin", "spikes", "ramp"};
+  return names;
+}
+
+Result<Field> builtin_field(const std::string& name) {
+  if (name == "bricks" || name == "pattern") {
+    Result<Scene> s = make_builtin_scene(name == "bricks" ? "plane" : "pattern");
     if (!s.ok()) return s.status();
     Result<Field> f = field_of_material(*s, 0);
     if (!f.ok()) return f.status();
     f->name = name;
+    return f;
+  }
+  // generated: 256 x 256 texels, depth_scale 0.05 (as `pattern`), trilinear repeat sampler
+  Result<Texture> t = make_generated_depth(name, 256);
+  if (!t.ok()) return t.status();
+  Scene holder;
+  Material m;
+  m.name = name;
+  m.params["depth_scale"] = 0.05f;
+  m.textures["depth"] = std::make_shared<Texture>(std::move(t).value());
+  holder.materials.push_back(m);
+  return field_of_material(holder, 0);
+}
+
+Result<std::vector<Field>> builtin_fields() {
+  std::vector<Field> out;
+  for (const std::string& name : builtin_field_names()) {
+    Result<Field> f = builtin_field(name);
+    if (!f.ok()) return f.status();
     out.push_back(std::move(f).value());
   }
   return out;
@@ -66,6 +163,13 @@ Result<Field> field_of_material(const Scene& scene, int material) {
   fm.self_shadow = true;
   fm.depth_write = true;
   fm.textures["depth"] = texture_level0(*depth->second);
+  if (depth->second->levels() > 1) {
+    f.depth_mips = depth->second;
+  } else {  // no chain: the average one a scene loader makes for a mipmapped sampler
+    auto mips = std::make_shared<Texture>(*fm.textures["depth"]);
+    mips->generate_mips(MipReduce::kAverage);
+    f.depth_mips = mips;
+  }
   auto dsc = m.params.find("depth_scale");
   fm.params["depth_scale"] = dsc != m.params.end() ? dsc->second : kDepthScaleSpec.default_value;
   auto color = m.textures.find("base_color");
@@ -123,7 +227,8 @@ std::vector<std::string> sweep_techniques() {
   return names;
 }
 
-std::vector<Setting> settings_for(const PluginDescriptor& plugin, const std::vector<int>& steps) {
+std::vector<Setting> settings_for(const PluginDescriptor& plugin, const std::vector<int>& steps,
+                                  int binary_steps) {
   std::vector<Setting> out;
   const int binary = param_index(plugin, "binary_steps");
   const bool has_steps = param_index(plugin, "steps") >= 0;
@@ -135,8 +240,12 @@ std::vector<Setting> settings_for(const PluginDescriptor& plugin, const std::vec
     Setting s{plugin.name, {{"steps", std::to_string(n)}}, "", n};
     if (param_index(plugin, "min_steps") >= 0) s.params["min_steps"] = std::to_string(n);
     s.label = std::string(plugin.name) + " " + std::to_string(n);
-    if (binary >= 0)
+    if (binary >= 0 && binary_steps >= 0) {
+      s.params["binary_steps"] = std::to_string(binary_steps);
+      s.label += "+" + std::to_string(binary_steps);
+    } else if (binary >= 0) {
       s.label += "+" + std::to_string(static_cast<int>(plugin.params[binary].default_value));
+    }
     out.push_back(std::move(s));
   }
   return out;
@@ -176,7 +285,20 @@ glm::dvec2 view_ray_step(const Field& field, double angle_deg) {
   return {v.x * s, v.y * s};
 }
 
-Scene view_scene(const Field& field, double angle_deg, int width, int height) {
+glm::dvec2 view_light_step(const Field& field, double* lz) {
+  // toward the sun, in tangent space (T, B, N) = (x, z, y) as view_ray_step
+  const glm::dvec3 w = -glm::normalize(glm::dvec3(field.sun.direction));
+  const glm::dvec3 l(w.x, w.z, w.y);
+  if (lz) *lz = l.z;
+  const double s = static_cast<double>(field.depth_scale()) / std::max(l.z, 1e-4);
+  return {l.x * s, l.y * s};
+}
+
+double half_texel_depth(const Field& field) {
+  return 0.5 / (static_cast<double>(field.depth().width(0)) * field.depth_scale());
+}
+
+Scene view_scene(const Field& field, double angle_deg, int width, int height, bool as_rendered) {
   const ViewGeometry g = geometry(angle_deg, width, height);
   Scene s;
   s.name = field.name;
@@ -191,6 +313,7 @@ Scene view_scene(const Field& field, double angle_deg, int width, int height) {
   prepare_mesh(m);
   s.meshes.push_back(std::move(m));
   s.materials.push_back(field.material);
+  if (as_rendered && field.depth_mips) s.materials.back().textures["depth"] = field.depth_mips;
   s.instances.push_back({0, 0, glm::mat4(1.0f)});
   s.lights.push_back(field.sun);
   Camera cam;

@@ -2,6 +2,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <fstream>
 #include <functional>
 #include <set>
@@ -29,6 +30,7 @@ const std::vector<Column>& column_table() {
       {"setting", nullptr, [](const Row& r) { return r.setting; }},
       {"steps", [](const Row& r) { return r.steps; }, nullptr},
       {"angle_deg", [](const Row& r) { return r.angle; }, nullptr},
+      {"lod", nullptr, [](const Row& r) { return r.lod; }},
       {"fragments", [](const Row& r) { return static_cast<double>(r.fragments); }, nullptr},
       {"ns_per_fragment", [](const Row& r) { return r.ns_median; }, nullptr},
       {"ns_min", [](const Row& r) { return r.ns_min; }, nullptr},
@@ -43,14 +45,19 @@ const std::vector<Column>& column_table() {
       {"steps_p99", [](const Row& r) { return r.steps_p99; }, nullptr},
       {"hit_err_mean_texels", [](const Row& r) { return r.hit_err_mean; }, nullptr},
       {"hit_err_p99_texels", [](const Row& r) { return r.hit_err_p99; }, nullptr},
+      {"hit_err_over1_frac", [](const Row& r) { return r.hit_err_over1_frac; }, nullptr},
       {"depth_err_mean", [](const Row& r) { return r.depth_err_mean; }, nullptr},
       {"depth_err_p99", [](const Row& r) { return r.depth_err_p99; }, nullptr},
       {"wrong_layer_frac", [](const Row& r) { return r.wrong_layer_frac; }, nullptr},
+      {"air_frac", [](const Row& r) { return r.air_frac; }, nullptr},
+      {"below_frac", [](const Row& r) { return r.below_frac; }, nullptr},
+      {"wrong_occlusion_frac", [](const Row& r) { return r.wrong_occlusion_frac; }, nullptr},
       {"image_rmse", [](const Row& r) { return r.rmse; }, nullptr},
       {"image_psnr_db", [](const Row& r) { return r.psnr_db; }, nullptr},
       {"shadow_compared", [](const Row& r) { return static_cast<double>(r.shadow_compared); },
        nullptr},
-      {"shadow_disagree_frac", [](const Row& r) { return r.shadow_disagree_frac; }, nullptr},
+      {"shadow_err", [](const Row& r) { return r.shadow_err; }, nullptr},
+      {"shadow_ray_err", [](const Row& r) { return r.shadow_ray_err; }, nullptr},
       {"gl_note", nullptr, [](const Row& r) { return r.gl_note; }},
   };
   return cols;
@@ -114,7 +121,9 @@ std::string to_json(const SweepResult& result, const RunInfo& info) {
   j["options"] = {{"width", info.options.width},     {"height", info.options.height},
                   {"threads", info.options.threads}, {"angles_deg", info.options.angles},
                   {"warmup", info.options.warmup},   {"repeats", info.options.repeats},
-                  {"azimuth_deg", kAzimuthDeg}};
+                  {"lods", info.options.lods},       {"azimuth_deg", kAzimuthDeg}};
+  j["build"] = nlohmann::json::object();
+  for (const auto& [k, v] : info.build) j["build"][k] = v;
   j["columns"] = columns();
   j["rows"] = nlohmann::json::array();
   for (const Row& r : result.rows) {
@@ -132,8 +141,11 @@ std::string to_json(const SweepResult& result, const RunInfo& info) {
 }
 
 std::string format_table(const std::vector<Row>& rows) {
-  bool gl = false;
-  for (const Row& r : rows) gl |= r.gl_ns_median >= 0 || !r.gl_note.empty();
+  bool gl = false, lods = false;
+  for (const Row& r : rows) {
+    gl |= r.gl_ns_median >= 0 || !r.gl_note.empty();
+    lods |= r.lod != kLodLevel0;
+  }
   std::ostringstream o;
   char buf[512];
   int fw = 5, sw = 7;  // field and setting columns as wide as their longest entry
@@ -141,21 +153,26 @@ std::string format_table(const std::vector<Row>& rows) {
     fw = std::max(fw, static_cast<int>(r.field.size()));
     sw = std::max(sw, static_cast<int>(r.setting.size()));
   }
-  std::snprintf(buf, sizeof buf, "%-*s %-*s %5s %8s %15s %7s %7s %7s %7s %8s %7s %6s %6s %6s", fw,
-                "field", sw, "setting", "angle", "ns/frag", "(min-max)", "fetch", "f.p99", "steps",
-                "s.p99", "err p99", "depth99", "wrong", "psnr", "shadow");
+  std::snprintf(buf, sizeof buf,
+                "%-*s %-*s %5s%s %8s %15s %7s %7s %7s %7s %8s %8s %7s %6s %6s %6s %6s", fw, "field",
+                sw, "setting", "angle", lods ? "  lod        " : "", "ns/frag", "(min-max)",
+                "fetch", "f.p99", "steps", "s.p99", "err mean", "err p99", "depth99", "wrong",
+                "air", "psnr", "shadow");
   o << buf;
   if (gl) o << "   gl ns/frag  cpu/gl";
   o << "\n";
   for (const Row& r : rows) {
     char range[64];
     std::snprintf(range, sizeof range, "(%.0f-%.0f)", r.ns_min, r.ns_max);
-    std::snprintf(
-        buf, sizeof buf,
-        "%-*s %-*s %5.0f %8.0f %15s %7.2f %7.0f %7.2f %7.0f %8.4f %7.4f %6.4f %6.1f %6.4f", fw,
-        r.field.c_str(), sw, r.setting.c_str(), r.angle, r.ns_median, range, r.fetches_mean,
-        r.fetches_p99, r.steps_mean, r.steps_p99, r.hit_err_p99, r.depth_err_p99,
-        r.wrong_layer_frac, r.psnr_db, r.shadow_disagree_frac);
+    char lod[32] = "";
+    if (lods) std::snprintf(lod, sizeof lod, "  %-11s", r.lod.c_str());
+    std::snprintf(buf, sizeof buf,
+                  "%-*s %-*s %5.0f%s %8.0f %15s %7.2f %7.0f %7.2f %7.0f %8.4f %8.4f %7.4f %6.4f "
+                  "%6.4f %6.1f %6.4f",
+                  fw, r.field.c_str(), sw, r.setting.c_str(), r.angle, lod, r.ns_median, range,
+                  r.fetches_mean, r.fetches_p99, r.steps_mean, r.steps_p99, r.hit_err_mean,
+                  r.hit_err_p99, r.depth_err_p99, r.wrong_layer_frac, r.air_frac, r.psnr_db,
+                  r.shadow_err);
     o << buf;
     if (gl) {
       if (r.gl_ns_median >= 0) {
@@ -168,6 +185,31 @@ std::string format_table(const std::vector<Row>& rows) {
     o << "\n";
   }
   return o.str();
+}
+
+std::string format_number(double v) {
+  if (!std::isfinite(v)) return "n/a";
+  if (v == 0.0) return "0";
+  const double a = std::fabs(v);
+  if (a < 1e-6) return v < 0 ? "-<1e-6" : "<1e-6";
+  char buf[48];
+  if (a >= 1e6) {
+    std::snprintf(buf, sizeof buf, "%.3g", v);
+    return buf;
+  }
+  if (v == std::floor(v)) {  // whole numbers (counts, steps, angles) as they are
+    std::snprintf(buf, sizeof buf, "%.0f", v);
+    return buf;
+  }
+  // fixed notation with 3 significant digits (at least, for whole numbers: 12345 stays 12345)
+  const int magnitude = static_cast<int>(std::floor(std::log10(a)));
+  const int decimals = std::max(0, 2 - magnitude);
+  std::snprintf(buf, sizeof buf, "%.*f", decimals, v);
+  // rounding may carry into a new digit (9.996 -> "10.00"): drop the extra decimal
+  const double back = std::fabs(std::strtod(buf, nullptr));
+  if (decimals > 0 && back >= std::pow(10.0, magnitude + 1))
+    std::snprintf(buf, sizeof buf, "%.*f", decimals - 1, v);
+  return buf;
 }
 
 std::string machine_description() {

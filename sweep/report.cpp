@@ -1,12 +1,16 @@
-// The self-contained HTML report of a sweep (sweep/sweep.h): machine and command, a Pareto plot
-// per field as inline SVG, the gallery of images and heat maps as data: URIs, and every row.
+// The self-contained HTML report of a sweep (sweep/sweep.h): build metadata, machine and command,
+// per-view Pareto plots as inline SVG, angle x setting tables, image and heat-map strips as data:
+// URIs, and every row in a sortable table.
 #include <unistd.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <map>
 #include <set>
 #include <sstream>
@@ -73,86 +77,191 @@ std::string fmt(const char* f, double v) {
   std::snprintf(buf, sizeof buf, f, std::isfinite(v) ? v : 0.0);
   return buf;
 }
+std::string num(double v) {
+  return html_escape(format_number(v));
+}
+std::string gl_num(double v) {
+  return v < 0 ? std::string("n/a") : num(v);
+}
 
 const char* const kPalette[] = {"#1f77b4", "#d62728", "#2ca02c", "#ff7f0e", "#9467bd",
                                 "#8c564b", "#e377c2", "#17becf", "#bcbd22", "#7f7f7f"};
 
-// One point per setting of a field: ns = mean over its views of the median ns per fragment,
-// err = the largest p99 hit error over its views (the worst angle).
-std::vector<Row> per_setting(const std::vector<Row>& rows, const std::string& field) {
-  std::map<std::string, std::pair<Row, int>> acc;
-  std::vector<std::string> order;
-  for (const Row& r : rows) {
-    if (r.field != field) continue;
-    auto it = acc.find(r.setting);
-    if (it == acc.end()) {
-      order.push_back(r.setting);
-      Row a = r;
-      a.ns_median = 0;
-      a.hit_err_p99 = 0;
-      it = acc.emplace(r.setting, std::pair{a, 0}).first;
-    }
-    it->second.first.ns_median += r.ns_median;
-    it->second.first.hit_err_p99 = std::max(it->second.first.hit_err_p99, r.hit_err_p99);
-    ++it->second.second;
-  }
-  std::vector<Row> out;
-  for (const std::string& s : order) {
-    Row a = acc[s].first;
-    a.ns_median /= acc[s].second;
-    out.push_back(a);
-  }
-  return out;
+// The setting's label without its technique name: "16+8" of "relief 16+8"; empty for none.
+std::string step_label(const Row& r) {
+  if (r.setting.rfind(r.technique + " ", 0) == 0) return r.setting.substr(r.technique.size() + 1);
+  return r.steps > 0 ? std::to_string(r.steps) : "";
 }
 
-std::string pareto_svg(const std::vector<Row>& pts, const std::string& field,
+std::string view_id(const std::string& field, const std::string& lod, double angle) {
+  std::string id = field + "-" + lod + "-" + fmt("%.0f", angle);
+  for (char& c : id)
+    if (!std::isalnum(static_cast<unsigned char>(c)) && c != '-') c = '_';
+  return id;
+}
+
+// One Pareto plot of one view (the rows of one field, LOD mode and angle: one point per setting):
+// x = median ns per fragment (log), y = mean or p99 hit error in texels (log; 0 sits on the
+// floor, marked "0"). Filled discs: CPU backend; hollow circles: the GLSL twin's time (GL) at the
+// same error (accuracy is always measured on CPU frames). The step setting is printed beside each
+// point; the legend names the techniques.
+std::string pareto_svg(const std::vector<const Row*>& pts, bool p99, const std::string& id,
+                       const std::vector<std::string>& techniques,
                        const std::map<std::string, std::string>& colour) {
-  const double W = 640, H = 400, L = 70, R = 20, T = 20, B = 50;
-  const double kFloor = 1e-3;  // p99 errors below this (exact: 0) sit on the axis floor
-  double x0 = 1e300, x1 = 0, y1 = kFloor * 10;
-  for (const Row& r : pts) {
-    x0 = std::min(x0, std::max(r.ns_median, 1.0));
-    x1 = std::max(x1, std::max(r.ns_median, 1.0));
-    y1 = std::max(y1, r.hit_err_p99);
+  const double W = 560, H = 330, L = 62, R = 150, T = 24, B = 46;
+  auto err = [&](const Row& r) { return p99 ? r.hit_err_p99 : r.hit_err_mean; };
+  double x0 = 1e300, x1 = 0, ymin = 1e300, ymax = 0;
+  bool gl = false;
+  for (const Row* r : pts) {
+    for (double ns : {r->ns_median, r->gl_ns_median}) {
+      if (!(ns > 0)) continue;
+      x0 = std::min(x0, ns);
+      x1 = std::max(x1, ns);
+    }
+    gl |= r->gl_ns_median > 0;
+    if (err(*r) > 0) ymin = std::min(ymin, err(*r)), ymax = std::max(ymax, err(*r));
   }
+  if (!(x1 > 0)) x0 = 1, x1 = 10;
+  if (!(ymax > 0)) ymin = 1e-3, ymax = 1e-2;
   const double lx0 = std::floor(std::log10(x0)), lx1 = std::max(std::ceil(std::log10(x1)), lx0 + 1);
-  const double ly0 = std::log10(kFloor), ly1 = std::max(std::ceil(std::log10(y1)), ly0 + 1);
+  // the floor: one decade under the smallest non-zero error, not below 1e-5
+  const double ly0 = std::max(std::floor(std::log10(ymin)) - 1, -5.0);
+  const double ly1 = std::max(std::ceil(std::log10(ymax)), ly0 + 1);
+  const double floor_v = std::pow(10.0, ly0);
   auto X = [&](double ns) {
-    return L + (std::log10(std::max(ns, 1.0)) - lx0) / (lx1 - lx0) * (W - L - R);
+    return L + (std::log10(std::max(ns, 1e-30)) - lx0) / (lx1 - lx0) * (W - L - R);
   };
   auto Y = [&](double e) {
-    return T + (ly1 - std::log10(std::max(e, kFloor))) / (ly1 - ly0) * (H - T - B);
+    return T + (ly1 - std::log10(std::max(e, floor_v))) / (ly1 - ly0) * (H - T - B);
   };
   std::ostringstream o;
-  o << "<svg class=\"pareto\" id=\"pareto-" << html_escape(field)
+  o << "<svg class=\"pareto\" id=\"pareto-" << html_escape(id) << (p99 ? "-p99" : "-mean")
+    << "\" data-metric=\"" << (p99 ? "p99" : "mean")
     << "\" xmlns=\"http://www.w3.org/2000/svg\" width=\"" << W << "\" height=\"" << H
     << "\" viewBox=\"0 0 " << W << " " << H << "\">\n";
   o << "<rect x=\"" << L << "\" y=\"" << T << "\" width=\"" << W - L - R << "\" height=\""
-    << H - T - B << "\" fill=\"none\" stroke=\"#888\"/>\n";
-  for (double e = lx0; e <= lx1; e += 1)
-    o << "<text x=\"" << X(std::pow(10, e)) << "\" y=\"" << H - B + 16
-      << "\" font-size=\"11\" text-anchor=\"middle\">" << fmt("%.0f", std::pow(10, e))
+    << H - T - B << "\" fill=\"#fff\" stroke=\"#888\"/>\n";
+  o << "<text class=\"title\" x=\"" << (L + W - R) / 2 << "\" y=\"15\" font-size=\"12\" "
+    << "text-anchor=\"middle\" font-weight=\"bold\">" << (p99 ? "p99" : "mean")
+    << " hit error</text>\n";
+  for (double e = lx0; e <= lx1; e += 1) {
+    const double x = X(std::pow(10, e));
+    o << "<line x1=\"" << x << "\" x2=\"" << x << "\" y1=\"" << T << "\" y2=\"" << H - B
+      << "\" stroke=\"#eee\"/><text x=\"" << x << "\" y=\"" << H - B + 14
+      << "\" font-size=\"10\" text-anchor=\"middle\">" << fmt("%.0f", std::pow(10, e))
       << "</text>\n";
-  for (double e = ly0; e <= ly1; e += 1)
-    o << "<text x=\"" << L - 6 << "\" y=\"" << Y(std::pow(10, e)) + 4
-      << "\" font-size=\"11\" text-anchor=\"end\">" << (e == ly0 ? "&lt;=" : "")
-      << fmt("%g", std::pow(10, e)) << "</text>\n";
-  o << "<text x=\"" << (L + W - R) / 2 << "\" y=\"" << H - 12
-    << "\" font-size=\"12\" text-anchor=\"middle\">ns per fragment (median, mean over views; "
-       "log)</text>\n";
-  o << "<text x=\"14\" y=\"" << (T + H - B) / 2
-    << "\" font-size=\"12\" text-anchor=\"middle\" transform=\"rotate(-90 14 " << (T + H - B) / 2
-    << ")\">p99 hit error, texels (worst view; log)</text>\n";
-  const std::vector<size_t> front = pareto_front(pts);
+  }
+  for (double e = ly0; e <= ly1; e += 1) {
+    const double y = Y(std::pow(10, e));
+    o << "<line x1=\"" << L << "\" x2=\"" << W - R << "\" y1=\"" << y << "\" y2=\"" << y
+      << "\" stroke=\"#eee\"/><text x=\"" << L - 5 << "\" y=\"" << y + 4
+      << "\" font-size=\"10\" text-anchor=\"end\">"
+      << (e == ly0 ? std::string("0, &lt;") : std::string()) << fmt("%g", std::pow(10, e))
+      << "</text>\n";
+  }
+  o << "<text class=\"xlabel\" x=\"" << (L + W - R) / 2 << "\" y=\"" << H - 10
+    << "\" font-size=\"11\" text-anchor=\"middle\">ns per fragment (median; log)</text>\n";
+  o << "<text class=\"ylabel\" x=\"13\" y=\"" << (T + H - B) / 2
+    << "\" font-size=\"11\" text-anchor=\"middle\" transform=\"rotate(-90 13 " << (T + H - B) / 2
+    << ")\">" << (p99 ? "p99" : "mean") << " hit error, texels (log)</text>\n";
+  // the Pareto front of the CPU points (on this metric)
+  std::vector<Row> flat;
+  for (const Row* r : pts) {
+    Row c = *r;
+    c.hit_err_p99 = err(*r);
+    flat.push_back(c);
+  }
+  const std::vector<size_t> front = pareto_front(flat);
   o << "<polyline class=\"front\" fill=\"none\" stroke=\"#444\" stroke-dasharray=\"4 3\" points=\"";
-  for (size_t i : front) o << X(pts[i].ns_median) << "," << Y(pts[i].hit_err_p99) << " ";
+  for (size_t i : front) o << X(flat[i].ns_median) << "," << Y(flat[i].hit_err_p99) << " ";
   o << "\"/>\n";
-  for (const Row& r : pts)
-    o << "<circle class=\"point\" cx=\"" << X(r.ns_median) << "\" cy=\"" << Y(r.hit_err_p99)
-      << "\" r=\"5\" fill=\"" << colour.at(r.technique) << "\"><title>" << html_escape(r.setting)
-      << ": " << fmt("%.0f", r.ns_median) << " ns, p99 " << fmt("%.4g", r.hit_err_p99)
-      << " texel</title></circle>\n";
-  o << "</svg>\n";
+  for (const Row* r : pts) {
+    const std::string c = colour.at(r->technique);
+    const std::string tip = html_escape(r->setting) + ": " + num(r->ns_median) + " ns, " +
+                            (p99 ? "p99 " : "mean ") + num(err(*r)) + " texel";
+    const double x = X(r->ns_median), y = Y(err(*r));
+    o << "<circle class=\"point\" cx=\"" << x << "\" cy=\"" << y << "\" r=\"4.5\" fill=\"" << c
+      << "\"><title>" << tip << "</title></circle>\n";
+    const std::string lbl = step_label(*r);
+    if (!lbl.empty())
+      o << "<text class=\"steps\" x=\"" << x + 6 << "\" y=\"" << y - 5
+        << "\" font-size=\"9\" fill=\"" << c << "\">" << html_escape(lbl) << "</text>\n";
+    if (r->gl_ns_median > 0)
+      o << "<circle class=\"gl-point\" cx=\"" << X(r->gl_ns_median) << "\" cy=\"" << y
+        << "\" r=\"4.5\" fill=\"none\" stroke=\"" << c << "\" stroke-width=\"1.5\"><title>"
+        << html_escape(r->setting) << " on GL: " << num(r->gl_ns_median)
+        << " ns</title></circle>\n";
+  }
+  // the legend
+  double ly = T + 8;
+  o << "<g class=\"legend\">\n";
+  for (const std::string& t : techniques) {
+    if (std::none_of(pts.begin(), pts.end(), [&](const Row* r) { return r->technique == t; }))
+      continue;
+    o << "<circle cx=\"" << W - R + 14 << "\" cy=\"" << ly << "\" r=\"4.5\" fill=\"" << colour.at(t)
+      << "\"/><text x=\"" << W - R + 24 << "\" y=\"" << ly + 4 << "\" font-size=\"11\">"
+      << html_escape(t) << "</text>\n";
+    ly += 16;
+  }
+  if (gl)
+    o << "<circle cx=\"" << W - R + 14 << "\" cy=\"" << ly << "\" r=\"4.5\" fill=\"none\" "
+      << "stroke=\"#444\"/><text x=\"" << W - R + 24 << "\" y=\"" << ly + 4
+      << "\" font-size=\"11\">hollow: GL time</text>\n";
+  o << "</g>\n</svg>\n";
+  return o.str();
+}
+
+// Rows of one field and LOD mode, grouped: the settings in first-seen order and the angles.
+struct Grid {
+  std::vector<std::string> settings;
+  std::vector<double> angles;
+  std::map<std::pair<std::string, double>, const Row*> at;
+};
+Grid grid(const std::vector<Row>& rows, const std::string& field, const std::string& lod) {
+  Grid g;
+  for (const Row& r : rows) {
+    if (r.field != field || r.lod != lod) continue;
+    if (std::find(g.settings.begin(), g.settings.end(), r.setting) == g.settings.end())
+      g.settings.push_back(r.setting);
+    if (std::find(g.angles.begin(), g.angles.end(), r.angle) == g.angles.end())
+      g.angles.push_back(r.angle);
+    g.at[{r.setting, r.angle}] = &r;
+  }
+  return g;
+}
+
+// The angle x setting table of one metric (docs/accuracy.md's layout), over every field and LOD.
+struct Metric {
+  const char* title;
+  std::function<std::string(const Row&)> cell;
+};
+std::string angle_table(const std::vector<Row>& rows, const std::vector<std::string>& fields,
+                        const std::vector<std::string>& lods, const Metric& m) {
+  std::vector<double> angles;
+  for (const Row& r : rows)
+    if (std::find(angles.begin(), angles.end(), r.angle) == angles.end()) angles.push_back(r.angle);
+  std::ostringstream o;
+  o << "<h3>" << m.title << "</h3>\n<div class=\"scroll\"><table class=\"grid\"><thead><tr>"
+    << "<th class=\"l\">field</th>" << (lods.size() > 1 ? "<th class=\"l\">lod</th>" : "")
+    << "<th class=\"l\">setting</th>";
+  for (double a : angles) o << "<th>" << fmt("%g", a) << "&deg;</th>";
+  o << "</tr></thead><tbody>\n";
+  for (const std::string& f : fields)
+    for (const std::string& l : lods) {
+      const Grid g = grid(rows, f, l);
+      for (const std::string& s : g.settings) {
+        o << "<tr><td class=\"l\">" << html_escape(f) << "</td>";
+        if (lods.size() > 1) o << "<td class=\"l\">" << html_escape(l) << "</td>";
+        o << "<td class=\"l\">" << html_escape(s) << "</td>";
+        for (double a : angles) {
+          auto it = g.at.find({s, a});
+          o << "<td>" << (it == g.at.end() ? std::string("&ndash;") : m.cell(*it->second))
+            << "</td>";
+        }
+        o << "</tr>\n";
+      }
+    }
+  o << "</tbody></table></div>\n";
   return o.str();
 }
 
@@ -179,11 +288,14 @@ Status write_report(const std::string& dir, const SweepResult& result, const Run
   std::error_code ec;
   std::filesystem::create_directories(dir, ec);
   if (ec) return Status::error(dir + ": cannot create the report folder: " + ec.message());
-  std::vector<std::string> fields, techniques;
+  std::vector<std::string> fields, techniques, lods;
+  bool gl = false;
   for (const Row& r : result.rows) {
     if (std::find(fields.begin(), fields.end(), r.field) == fields.end()) fields.push_back(r.field);
     if (std::find(techniques.begin(), techniques.end(), r.technique) == techniques.end())
       techniques.push_back(r.technique);
+    if (std::find(lods.begin(), lods.end(), r.lod) == lods.end()) lods.push_back(r.lod);
+    gl |= r.gl_ns_median >= 0 || !r.gl_note.empty();
   }
   std::map<std::string, std::string> colour;
   for (size_t i = 0; i < techniques.size(); ++i) colour[techniques[i]] = kPalette[i % 10];
@@ -191,89 +303,219 @@ Status write_report(const std::string& dir, const SweepResult& result, const Run
   std::ostringstream h;
   h << "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">\n"
     << "<title>relief bench: accuracy and cost</title>\n<style>\n"
-    << "body{font-family:sans-serif;margin:1.5em;max-width:1400px}\n"
+    << "body{font-family:sans-serif;margin:1.5em;max-width:1500px}\n"
     << "table{border-collapse:collapse;font-size:12px}td,th{border:1px solid #ccc;padding:2px 5px;"
-       "text-align:right}td.l,th.l{text-align:left}\n"
-    << "img{image-rendering:pixelated;width:160px;display:block}figure{display:inline-block;margin:"
-       "4px}"
-       "figcaption{font-size:11px}\n</style></head><body>\n";
-  h << "<h1>relief bench</h1>\n<p>Machine: " << html_escape(info.machine)
-    << "<br>CPU backend: " << html_escape(result.cpu_device);
-  if (!result.gl_device.empty()) h << "<br>GL backend: " << html_escape(result.gl_device);
-  h << "<br>Command: <code>" << html_escape(info.command) << "</code><br>" << info.options.width
-    << " x " << info.options.height << " px, " << info.options.warmup << " warm-up + "
-    << info.options.repeats << " timed frames per row; orthographic views at azimuth "
-    << kAzimuthDeg << " deg; error against <code>exact</code> on the same fragments.</p>\n";
+       "text-align:right;white-space:nowrap}td.l,th.l{text-align:left}\n"
+    << "div.scroll{overflow-x:auto;max-width:100%;margin-bottom:1em}\n"
+    << "table.sortable th{cursor:pointer;background:#f4f4f4}"
+       "table.sortable th[data-dir=asc]::after{content:' \\25B2'}"
+       "table.sortable th[data-dir=desc]::after{content:' \\25BC'}\n"
+    << "table.meta td{white-space:normal;word-break:break-all;max-width:1100px}\n"
+    << "div.plots{display:flex;flex-wrap:wrap;gap:6px}figure{margin:4px}"
+       "figcaption{font-size:12px;font-weight:bold}\n"
+    << "table.strip td{vertical-align:top;text-align:center;font-size:11px}"
+       "table.strip img{image-rendering:pixelated;width:112px;display:block}\n"
+    << "</style></head><body>\n";
+  h << "<h1>relief bench</h1>\n";
+  h << "<h2>Build and machine</h2>\n<table id=\"build\" class=\"meta\"><tbody>\n";
+  for (const auto& [k, v] : info.build)
+    h << "<tr><th class=\"l\">" << html_escape(k) << "</th><td class=\"l\">" << html_escape(v)
+      << "</td></tr>\n";
+  h << "<tr><th class=\"l\">machine</th><td class=\"l\">" << html_escape(info.machine)
+    << "</td></tr>\n<tr><th class=\"l\">CPU backend</th><td class=\"l\">"
+    << html_escape(result.cpu_device) << "</td></tr>\n<tr><th class=\"l\">GL backend</th><td "
+    << "class=\"l\">"
+    << (result.gl_device.empty() ? "n/a (not run)" : html_escape(result.gl_device))
+    << "</td></tr>\n<tr><th class=\"l\">command</th><td class=\"l\"><code>"
+    << html_escape(info.command) << "</code></td></tr>\n</tbody></table>\n";
+  h << "<p>" << info.options.width << " x " << info.options.height << " px, " << info.options.warmup
+    << " warm-up + " << info.options.repeats
+    << " timed frames per row; orthographic views at azimuth " << kAzimuthDeg
+    << " deg; errors against <code>exact</code> on level 0 (the true surface) at the same "
+       "fragments. LOD modes: level0 = the depth map without mips; as-rendered = with its mips "
+       "and the material's filter. Column meanings: docs/accuracy.md.</p>\n";
   for (const std::string& n : result.notes) h << "<p>" << html_escape(n) << "</p>\n";
-  h << "<h2>Pareto front: p99 hit error against ns per fragment</h2>\n"
-    << "<p>One point per setting: the mean over the views of its median ns per fragment and its "
-       "worst p99 hit error over the views. The dashed line joins the settings no other beats on "
-       "both.</p>\n<p>";
-  for (const std::string& t : techniques)
-    h << "<span style=\"color:" << colour[t] << "\">&#9679;</span> " << html_escape(t)
-      << " &nbsp; ";
-  h << "</p>\n";
-  for (const std::string& f : fields)
-    h << "<h3>" << html_escape(f) << "</h3>\n"
-      << pareto_svg(per_setting(result.rows, f), f, colour);
 
-  if (!result.images.empty()) {
-    h << "<h2>Images and error heat maps</h2>\n<p>Shaded result of the fewest-steps setting of "
-         "each "
-         "technique and its heat map against exact (black: equal; blue, green below 8/255; yellow "
-         "to red up to 32/255 and above).</p>\n";
-    std::string view;
-    for (const RowImages& im : result.images) {
-      const Row& r = result.rows.at(im.row);
-      const std::string v = r.field + " at " + fmt("%.0f", r.angle) + " deg";
-      if (v != view) {
-        h << (view.empty() ? "" : "</div>\n") << "<h3>" << html_escape(v) << "</h3><div>\n";
-        view = v;
+  // ---- per-angle Pareto plots ----
+  h << "<h2>Error against cost, per view</h2>\n<p>One plot pair per field, LOD mode and view "
+       "angle; one point per setting (filled: CPU backend"
+    << (gl ? "; hollow: the GLSL twin's time on GL, at the CPU frames' error" : "")
+    << "), the step setting beside it, one colour per technique. The dashed line joins the "
+       "settings no other beats on both cost and error. Errors of 0 sit on the floor of the "
+       "axis.</p>\n";
+  for (const std::string& f : fields)
+    for (const std::string& l : lods) {
+      const Grid g = grid(result.rows, f, l);
+      h << "<h3>" << html_escape(f) << ", " << html_escape(l) << "</h3>\n<div class=\"plots\">\n";
+      for (double a : g.angles) {
+        std::vector<const Row*> pts;
+        for (const std::string& s : g.settings) {
+          auto it = g.at.find({s, a});
+          if (it != g.at.end()) pts.push_back(it->second);
+        }
+        const std::string id = view_id(f, l, a);
+        h << "<figure id=\"view-" << html_escape(id) << "\"><figcaption>" << html_escape(f)
+          << " at " << fmt("%g", a) << "&deg; (" << html_escape(l) << ")</figcaption>\n"
+          << pareto_svg(pts, false, id, techniques, colour)
+          << pareto_svg(pts, true, id, techniques, colour) << "</figure>\n";
       }
-      Result<std::string> c = png_uri(im.color, dir);
-      if (!c.ok()) return c.status();
-      Result<std::string> e = png_uri(im.heat, dir);
-      if (!e.ok()) return e.status();
-      h << "<figure><img alt=\"" << html_escape(r.setting) << "\" src=\"" << *c
-        << "\"><img alt=\"heat map " << html_escape(r.setting) << "\" src=\"" << *e
-        << "\"><figcaption>" << html_escape(r.setting) << ", p99 " << fmt("%.3g", r.hit_err_p99)
-        << " texel, PSNR " << fmt("%.1f", r.psnr_db) << " dB</figcaption></figure>\n";
+      h << "</div>\n";
     }
-    h << "</div>\n";
+
+  // ---- angle x setting tables ----
+  h << "<h2>Angle x setting tables</h2>\n";
+  const Metric metrics[] = {
+      {"p99 hit error, texels", [](const Row& r) { return num(r.hit_err_p99); }},
+      {"mean hit error, texels", [](const Row& r) { return num(r.hit_err_mean); }},
+      {"fraction of fragments more than one texel off",
+       [](const Row& r) { return num(r.hit_err_over1_frac); }},
+      {"wrong-layer fraction (hits past exact's with air between)",
+       [](const Row& r) { return num(r.wrong_layer_frac); }},
+      {"air fraction (hits more than half a texel above the surface)",
+       [](const Row& r) { return num(r.air_frac); }},
+      {"wrong occlusion: in the air or on a wrong layer (wrong_occlusion_frac)",
+       [](const Row& r) { return num(r.wrong_occlusion_frac); }},
+      {"self-shadow error against exact's mask (shadow_err)",
+       [](const Row& r) { return num(r.shadow_err); }},
+      {"ns per fragment, CPU (median)", [](const Row& r) { return num(r.ns_median); }},
+      {"texture fetches per fragment, mean", [](const Row& r) { return num(r.fetches_mean); }},
+  };
+  for (const Metric& m : metrics) h << angle_table(result.rows, fields, lods, m);
+  if (gl)
+    h << angle_table(result.rows, fields, lods,
+                     {"ns per fragment, GL (median; n/a: not run)",
+                      [](const Row& r) { return gl_num(r.gl_ns_median); }});
+
+  // ---- image strips ----
+  if (!result.images.empty()) {
+    h << "<h2>Images and error heat maps</h2>\n<p>Per setting, each view's shaded result and its "
+         "heat map against exact (black: equal; blue, green below 8/255; yellow to red up to "
+         "32/255 and above; each heat-map pixel of a reduced image shows the worst pixel it "
+         "covers).</p>\n";
+    std::map<size_t, const RowImages*> by_row;
+    for (const RowImages& im : result.images) by_row[im.row] = &im;
+    for (const std::string& f : fields)
+      for (const std::string& l : lods) {
+        const Grid g = grid(result.rows, f, l);
+        h << "<h3>" << html_escape(f) << ", " << html_escape(l) << "</h3>\n"
+          << "<div class=\"scroll\"><table class=\"strip\"><thead><tr><th class=\"l\">setting"
+          << "</th>";
+        for (double a : g.angles) h << "<th>" << fmt("%g", a) << "&deg;</th>";
+        h << "</tr></thead><tbody>\n";
+        for (const std::string& s : g.settings) {
+          h << "<tr><td class=\"l\">" << html_escape(s) << "</td>";
+          for (double a : g.angles) {
+            auto it = g.at.find({s, a});
+            const RowImages* im = nullptr;
+            if (it != g.at.end()) {
+              auto ri = by_row.find(static_cast<size_t>(it->second - result.rows.data()));
+              if (ri != by_row.end()) im = ri->second;
+            }
+            if (!im) {
+              h << "<td>&ndash;</td>";
+              continue;
+            }
+            const Row& r = *it->second;
+            Result<std::string> c = png_uri(im->color, dir);
+            if (!c.ok()) return c.status();
+            Result<std::string> e = png_uri(im->heat, dir);
+            if (!e.ok()) return e.status();
+            h << "<td><img alt=\"" << html_escape(s) << " at " << fmt("%g", a) << " deg\" src=\""
+              << *c << "\"><img alt=\"heat map " << html_escape(s) << " at " << fmt("%g", a)
+              << " deg\" src=\"" << *e << "\">p99 " << num(r.hit_err_p99) << ", air "
+              << num(r.air_frac) << "<br>PSNR " << fmt("%.1f", r.psnr_db) << " dB</td>";
+          }
+          h << "</tr>\n";
+        }
+        h << "</tbody></table></div>\n";
+      }
   }
 
-  h << "<h2>Rows</h2>\n<table id=\"rows\"><tr>";
+  // ---- every row, sortable ----
+  h << "<h2>Rows</h2>\n<p>Click a column header to sort (again: reverse). GL columns read n/a "
+       "where GL was not run.</p>\n<div class=\"scroll\"><table id=\"rows\" class=\"sortable\">";
   const std::string csv = to_csv(result.rows);
   std::istringstream lines(csv);
   std::string line;
+  std::vector<std::string> names;
   bool header = true;
   while (std::getline(lines, line)) {
-    if (!header) h << "<tr>";
-    // the CSV's cells (quoted cells hold no comma here but notes may; split on unquoted commas)
+    // the CSV's cells, split on unquoted commas (quotes dropped)
+    std::vector<std::string> cells;
     std::string cell;
     bool quoted = false;
-    auto flush = [&] {
-      const bool text =
-          !cell.empty() && (std::isalpha(static_cast<unsigned char>(cell[0])) || cell[0] == '"');
-      h << (header ? "<th" : "<td") << (text ? " class=\"l\">" : ">") << html_escape(cell)
-        << (header ? "</th>" : "</td>");
-      cell.clear();
-    };
     for (char ch : line) {
-      if (ch == '"') quoted = !quoted;
-      if (ch == ',' && !quoted)
-        flush();
-      else
+      if (ch == '"') {
+        quoted = !quoted;
+      } else if (ch == ',' && !quoted) {
+        cells.push_back(cell);
+        cell.clear();
+      } else {
         cell += ch;
+      }
     }
-    flush();
+    cells.push_back(cell);
+    if (header) {
+      names = cells;
+      h << "<thead><tr>";
+      for (const std::string& c : cells) {
+        const bool text =
+            c == "field" || c == "technique" || c == "setting" || c == "lod" || c == "gl_note";
+        h << "<th" << (text ? " class=\"l\"" : "") << ">" << html_escape(c) << "</th>";
+      }
+      h << "</tr></thead><tbody>\n";
+      header = false;
+      continue;
+    }
+    h << "<tr>";
+    for (size_t i = 0; i < cells.size(); ++i) {
+      const std::string& name = i < names.size() ? names[i] : std::string();
+      const std::string& c = cells[i];
+      char* end = nullptr;
+      const double v = std::strtod(c.c_str(), &end);
+      const bool numeric = !c.empty() && end && *end == '\0';
+      const bool gl_col = name.rfind("gl_", 0) == 0 || name == "cpu_gl_ratio";
+      if (!numeric)
+        h << "<td class=\"l\" data-v=\"" << html_escape(c) << "\">" << html_escape(c) << "</td>";
+      else if (gl_col && v < 0)
+        h << "<td data-v=\"\">n/a</td>";
+      else
+        h << "<td data-v=\"" << html_escape(c) << "\">" << num(v) << "</td>";
+    }
     h << "</tr>\n";
-    header = false;
   }
-  h << "</table>\n";
-  // A self-check the headless test reads: the plot rendered its points.
-  h << "<script>\n(function(){var n=document.querySelectorAll('svg.pareto circle.point').length;"
-       "document.body.setAttribute('data-plot-points',String(n));})();\n</script>\n";
+  h << "</tbody></table></div>\n";
+  // Sorting, and a self-check the headless test reads: what the page drew.
+  h << "<script>\n(function(){\n"
+       "function key(td){var v=td.getAttribute('data-v');var n=parseFloat(v);"
+       "return isNaN(n)?{n:false,v:v}:{n:true,v:n};}\n"
+       "function sortBy(t,c){var th=t.tHead.rows[0].cells,b=t.tBodies[0];"
+       "var d=th[c].getAttribute('data-dir')==='asc'?-1:1;"
+       "for(var k=0;k<th.length;k++)th[k].removeAttribute('data-dir');"
+       "th[c].setAttribute('data-dir',d===1?'asc':'desc');"
+       "var rows=Array.prototype.slice.call(b.rows);"
+       "rows.sort(function(x,y){var a=key(x.cells[c]),e=key(y.cells[c]);"
+       "if(a.n&&e.n)return (a.v-e.v)*d;if(a.n!==e.n)return a.n?-1:1;"
+       "return String(a.v).localeCompare(String(e.v))*d;});"
+       "rows.forEach(function(r){b.appendChild(r);});}\n"
+       "document.querySelectorAll('table.sortable').forEach(function(t){"
+       "var th=t.tHead.rows[0].cells;for(var c=0;c<th.length;c++)(function(c){"
+       "th[c].addEventListener('click',function(){sortBy(t,c);});})(c);});\n"
+       "var b=document.body;"
+       "b.setAttribute('data-plots',String(document.querySelectorAll('svg.pareto').length));"
+       "b.setAttribute('data-plot-points',"
+       "String(document.querySelectorAll('svg.pareto circle.point').length));"
+       "b.setAttribute('data-step-labels',"
+       "String(document.querySelectorAll('svg.pareto text.steps').length));"
+       "b.setAttribute('data-legends',"
+       "String(document.querySelectorAll('svg.pareto g.legend').length));"
+       "var t=document.getElementById('rows');"
+       "b.setAttribute('data-table-rows',String(t?t.tBodies[0].rows.length:0));\n"
+       "// #sort=COLUMN sorts the rows table by that column on load (the test's check)\n"
+       "var m=/#sort=([a-z0-9_]+)/.exec(location.hash);if(m&&t){var th=t.tHead.rows[0].cells;"
+       "for(var c=0;c<th.length;c++)if(th[c].textContent===m[1]){sortBy(t,c);"
+       "b.setAttribute('data-sorted-by',m[1]);}}\n"
+       "})();\n</script>\n";
   h << "</body></html>\n";
 
   return write_file_atomic(dir + "/index.html", h.str());  // checked writes, fsync, rename

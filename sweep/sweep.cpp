@@ -231,24 +231,37 @@ class Runner {
   std::string gl_error_, cpu_device_, gl_device_;
 };
 
+// The view's constants the accuracy needs: the level-0 field, the ray and light steps, the
+// air/below tolerance.
+struct ViewRef {
+  const HeightField* hf = nullptr;
+  glm::dvec2 ds{0.0}, dl{0.0};
+  double lz = 0.0;
+  double tol = 0.0;  // half a texel of height, depth units
+};
+
 // Accuracy of `m` against the reference `e` on the pixels both cover.
-void accuracy(const Measured& m, const Measured& e, const HeightField& hf, glm::dvec2 ds,
-              Row& row) {
+void accuracy(const Measured& m, const Measured& e, const ViewRef& v, Row& row) {
   const Framebuffer& a = m.on;
   const Framebuffer& b = e.on;
+  const HeightField& hf = *v.hf;
+  const glm::dvec2 ds = v.ds;
   const double w = hf.width(), h = hf.height();
   std::vector<double> hit, depth;
-  long wrong = 0, compared = 0, disagree = 0;
+  long wrong = 0, air = 0, below = 0, occlusion = 0, compared = 0, disagree = 0, ray_compared = 0,
+       ray_disagree = 0;
   for (size_t i = 0; i < a.color.pixels.size(); ++i) {
     if (!(a.depth.values[i] > 0.0f) || !(b.depth.values[i] > 0.0f)) continue;
     const float* pa = &a.aov[i * kAovTotalChannels];
     const float* pb = &b.aov[i * kAovTotalChannels];
-    const double du = (static_cast<double>(pa[kAovOffset[0]]) - pb[kAovOffset[0]]) * w;
-    const double dv = (static_cast<double>(pa[kAovOffset[0] + 1]) - pb[kAovOffset[0] + 1]) * h;
+    const double ua = pa[kAovOffset[0]], va = pa[kAovOffset[0] + 1];
+    const double du = (ua - pb[kAovOffset[0]]) * w;
+    const double dv = (va - pb[kAovOffset[0] + 1]) * h;
     hit.push_back(std::hypot(du, dv));
     const double ta = pa[kAovOffset[1]], te = pb[kAovOffset[1]];
     depth.push_back(std::fabs(ta - te));
     // wrong layer: past exact's hit with air between them (sampled every 1/16 texel)
+    bool wrong_layer = false;
     if (ta > te + 1e-4) {
       const double texels = (ta - te) * std::hypot(ds.x * w, ds.y * h);
       const int samples = static_cast<int>(std::clamp(std::ceil(texels * 16.0), 1.0, 1e5));
@@ -256,26 +269,84 @@ void accuracy(const Measured& m, const Measured& e, const HeightField& hf, glm::
       for (int k = 1; k <= samples; ++k) {
         const double t = te + (ta - te) * k / (samples + 1.0);
         if (hf.depth_at(u0 + (t - te) * ds.x, v0 + (t - te) * ds.y) - t > 1e-3) {
-          ++wrong;
+          wrong_layer = true;
           break;
         }
       }
     }
+    // the hit against the level-0 surface at its own uv: in the air, or inside
+    const double gap = hf.depth_at(ua, va) - ta;
+    wrong += wrong_layer;
+    air += gap > v.tol;
+    below += -gap > v.tol;
+    occlusion += wrong_layer || gap > v.tol;
     if (m.visible[i] >= 0 && e.visible[i] >= 0) {
       ++compared;
       disagree += m.visible[i] != e.visible[i];
     }
+    if (m.visible[i] >= 0 && v.lz > 0.0) {
+      ++ray_compared;
+      const bool truth = hf.shadowed(ua, va, ta, v.dl.x, v.dl.y, 1e-3);
+      ray_disagree += (m.visible[i] == 1) != truth;
+    }
   }
+  const double n = static_cast<double>(hit.size());
   row.hit_err_mean = mean(hit);
   row.hit_err_p99 = percentile99(hit);
+  row.hit_err_over1_frac = hit.empty()
+                               ? 0.0
+                               : static_cast<double>(std::count_if(
+                                     hit.begin(), hit.end(), [](double e) { return e > 1.0; })) /
+                                     n;
   row.depth_err_mean = mean(depth);
   row.depth_err_p99 = percentile99(depth);
-  row.wrong_layer_frac = hit.empty() ? 0.0 : static_cast<double>(wrong) / hit.size();
+  row.wrong_layer_frac = hit.empty() ? 0.0 : static_cast<double>(wrong) / n;
+  row.air_frac = hit.empty() ? 0.0 : static_cast<double>(air) / n;
+  row.below_frac = hit.empty() ? 0.0 : static_cast<double>(below) / n;
+  row.wrong_occlusion_frac = hit.empty() ? 0.0 : static_cast<double>(occlusion) / n;
   row.shadow_compared = compared;
-  row.shadow_disagree_frac = compared ? static_cast<double>(disagree) / compared : 0.0;
+  row.shadow_err = compared ? static_cast<double>(disagree) / compared : 0.0;
+  row.shadow_ray_err = ray_compared ? static_cast<double>(ray_disagree) / ray_compared : 0.0;
   const ImageDiff d = compare_images(a.color, b.color);
   row.rmse = d.rmse;
   row.psnr_db = std::isfinite(d.psnr_db) ? std::min(d.psnr_db, kPsnrCap) : kPsnrCap;
+}
+
+// The report's thumbnails: `color` box-filtered by k = ceil(width / max_width), and of the heat
+// map, per k x k block, the pixel whose colour differs most from exact's (so a one-pixel error
+// still shows).
+void thumbnails(const Image& color, const Image& ref, int max_width, RowImages& out) {
+  const Image heat = diff_heatmap(color, ref);
+  const int k = std::max(1, (color.width + std::max(max_width, 1) - 1) / std::max(max_width, 1));
+  if (k == 1) {
+    out.color = color;
+    out.heat = heat;
+    return;
+  }
+  const int w = std::max(1, color.width / k), h = std::max(1, color.height / k);
+  out.color = Image(w, h);
+  out.heat = Image(w, h);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      glm::vec4 sum(0.0f);
+      float worst = -1.0f;
+      glm::vec4 hot(0.0f);
+      int count = 0;
+      for (int j = y * k; j < std::min((y + 1) * k, color.height); ++j)
+        for (int i = x * k; i < std::min((x + 1) * k, color.width); ++i) {
+          const glm::vec4 c = color.at(i, j), r = ref.at(i, j);
+          sum += c;
+          ++count;
+          const float e = std::max({std::fabs(c.r - r.r), std::fabs(c.g - r.g),
+                                    std::fabs(c.b - r.b), std::fabs(c.a - r.a)});
+          if (e > worst) {
+            worst = e;
+            hot = heat.at(i, j);
+          }
+        }
+      out.color.at(x, y) = sum / static_cast<float>(std::max(count, 1));
+      out.heat.at(x, y) = hot;
+    }
 }
 
 void work_stats(const Measured& m, Row& row) {
@@ -297,30 +368,21 @@ void set_times(const std::vector<double>& ns, double& med, double& lo, double& h
   hi = ns.empty() ? 0.0 : *std::max_element(ns.begin(), ns.end());
 }
 
-// Images are kept for the fewest-steps setting of each technique (the report's gallery).
-std::vector<bool> gallery(const std::vector<Setting>& settings) {
-  std::vector<bool> keep(settings.size(), false);
-  std::map<std::string, size_t> first;
-  for (size_t i = 0; i < settings.size(); ++i) {
-    auto it = first.find(settings[i].technique);
-    if (it == first.end() || settings[i].steps < settings[it->second].steps)
-      first[settings[i].technique] = i;
-  }
-  for (const auto& [t, i] : first) keep[i] = true;
-  return keep;
-}
-
 }  // namespace
 
 Result<SweepResult> run_sweep(const std::vector<Field>& fields,
                               const std::vector<Setting>& settings, const Options& options) {
   if (options.repeats < 1 || options.warmup < 0)
     return Status::usage("--repeats: expected at least 1 (and --warmup at least 0)");
+  if (options.lods.empty()) return Status::usage("--lod: expected level0, as-rendered or both");
+  for (const std::string& l : options.lods)
+    if (l != kLodLevel0 && l != kLodAsRendered)
+      return Status::usage("--lod: expected level0, as-rendered or both, got '" + l + "'");
   SweepResult out;
   Runner runner(options);
   const Setting exact_setting{"exact", {}, "exact", 0};
-  const std::vector<bool> keep = gallery(settings);
-  const int total = static_cast<int>(fields.size() * options.angles.size() * (settings.size() + 1));
+  const int total = static_cast<int>(fields.size() * options.angles.size() *
+                                     (options.lods.size() * settings.size() + 1));
   int done = 0;
   auto tick = [&](const std::string& what) {
     ++done;
@@ -328,46 +390,57 @@ Result<SweepResult> run_sweep(const std::vector<Field>& fields,
   };
   for (const Field& field : fields) {
     const HeightField hf = HeightField::from_texture(field.depth(), field.material.sampler);
+    ViewRef vr;
+    vr.hf = &hf;
+    vr.dl = view_light_step(field, &vr.lz);
+    vr.tol = half_texel_depth(field);
     for (double angle : options.angles) {
       const Scene scene = view_scene(field, angle, options.width, options.height);
-      const glm::dvec2 ds = view_ray_step(field, angle);
+      vr.ds = view_ray_step(field, angle);
       const std::string view =
           field.name + " @ " + std::to_string(static_cast<int>(angle)) + " deg";
       Result<Measured> ref = runner.measure(scene, exact_setting);
       if (!ref.ok()) return ref.status().with_context(view + ", exact");
       tick(view + ": exact reference");
-      for (size_t si = 0; si < settings.size(); ++si) {
-        const Setting& s = settings[si];
-        // exact's own row reuses the reference (same renders)
-        Result<Measured> m =
-            s.technique == "exact" && s.params.empty() ? ref : runner.measure(scene, s);
-        if (!m.ok()) return m.status().with_context(view + ", " + s.label);
-        Row row;
-        row.field = field.name;
-        row.technique = s.technique;
-        row.setting = s.label;
-        row.steps = s.steps;
-        row.angle = angle;
-        row.fragments = m->fragments;
-        set_times(m->ns, row.ns_median, row.ns_min, row.ns_max);
-        work_stats(*m, row);
-        accuracy(*m, *ref, hf, ds, row);
-        if (options.gl) {
-          const std::vector<double> g = runner.gl_times(scene, s, m->fragments, row.gl_note);
-          if (!g.empty()) {
-            set_times(g, row.gl_ns_median, row.gl_ns_min, row.gl_ns_max);
-            row.cpu_gl_ratio = row.gl_ns_median > 0 ? row.ns_median / row.gl_ns_median : -1.0;
+      for (const std::string& lod : options.lods) {
+        const bool level0 = lod == kLodLevel0;
+        const Scene lod_scene =
+            level0 ? scene : view_scene(field, angle, options.width, options.height, true);
+        for (size_t si = 0; si < settings.size(); ++si) {
+          const Setting& s = settings[si];
+          const std::string what = view + ", " + s.label + (level0 ? "" : ", " + lod);
+          // exact's own level-0 row reuses the reference (same renders)
+          Result<Measured> m = level0 && s.technique == "exact" && s.params.empty()
+                                   ? ref
+                                   : runner.measure(lod_scene, s);
+          if (!m.ok()) return m.status().with_context(what);
+          Row row;
+          row.field = field.name;
+          row.technique = s.technique;
+          row.setting = s.label;
+          row.steps = s.steps;
+          row.angle = angle;
+          row.lod = lod;
+          row.fragments = m->fragments;
+          set_times(m->ns, row.ns_median, row.ns_min, row.ns_max);
+          work_stats(*m, row);
+          accuracy(*m, *ref, vr, row);
+          if (options.gl) {
+            const std::vector<double> g = runner.gl_times(lod_scene, s, m->fragments, row.gl_note);
+            if (!g.empty()) {
+              set_times(g, row.gl_ns_median, row.gl_ns_min, row.gl_ns_max);
+              row.cpu_gl_ratio = row.gl_ns_median > 0 ? row.ns_median / row.gl_ns_median : -1.0;
+            }
           }
+          if (options.keep_images) {
+            RowImages im;
+            im.row = out.rows.size();
+            thumbnails(m->on.color, ref->on.color, options.thumbnail, im);
+            out.images.push_back(std::move(im));
+          }
+          out.rows.push_back(std::move(row));
+          tick(what);
         }
-        if (options.keep_images && keep[si]) {
-          RowImages im;
-          im.row = out.rows.size();
-          im.color = m->on.color;
-          im.heat = diff_heatmap(m->on.color, ref->on.color);
-          out.images.push_back(std::move(im));
-        }
-        out.rows.push_back(std::move(row));
-        tick(view + ": " + s.label);
       }
     }
   }

@@ -34,6 +34,21 @@ Field small_pattern() {
   return f;
 }
 
+// A generated field (thin, spikes, ramp) at `size` texels, as builtin_fields() makes it.
+Field generated(const std::string& name, int size = 64) {
+  Result<Texture> t = make_generated_depth(name, size);
+  EXPECT_TRUE(t.ok()) << name;
+  Scene holder;
+  Material m;
+  m.name = name;
+  m.params["depth_scale"] = 0.05f;
+  m.textures["depth"] = std::make_shared<Texture>(std::move(t).value());
+  holder.materials.push_back(m);
+  Result<Field> f = field_of_material(holder, 0);
+  EXPECT_TRUE(f.ok());
+  return std::move(f).value();
+}
+
 Field bricks() {
   Result<std::vector<Field>> b = builtin_fields();
   EXPECT_TRUE(b.ok());
@@ -89,7 +104,12 @@ TEST(Sweep, ExactAgainstItselfIsExactlyZero) {
     EXPECT_EQ(row.wrong_layer_frac, 0.0);
     EXPECT_EQ(row.rmse, 0.0);
     EXPECT_EQ(row.psnr_db, kPsnrCap);
-    EXPECT_EQ(row.shadow_disagree_frac, 0.0);
+    EXPECT_EQ(row.shadow_err, 0.0);
+    EXPECT_EQ(row.shadow_ray_err, 0.0);
+    EXPECT_EQ(row.air_frac, 0.0);
+    EXPECT_EQ(row.below_frac, 0.0);
+    EXPECT_EQ(row.wrong_occlusion_frac, 0.0);
+    EXPECT_EQ(row.hit_err_over1_frac, 0.0);
     EXPECT_GT(row.shadow_compared, 0);
     EXPECT_GT(row.fetches_mean, 0.0);
   }
@@ -110,7 +130,8 @@ TEST(Sweep, ErrorsAreNeverNegativeAndFractionsStayInUnitRange) {
     }
     EXPECT_LE(row.ns_min, row.ns_median) << what;
     EXPECT_LE(row.ns_median, row.ns_max) << what;
-    for (double f : {row.wrong_layer_frac, row.shadow_disagree_frac}) {
+    for (double f : {row.wrong_layer_frac, row.shadow_err, row.shadow_ray_err, row.air_frac,
+                     row.below_frac, row.wrong_occlusion_frac, row.hit_err_over1_frac}) {
       EXPECT_GE(f, 0.0) << what;
       EXPECT_LE(f, 1.0) << what;
     }
@@ -282,6 +303,195 @@ TEST(Sweep, TargetErrorPickHoldsOnHeldBackViews) {
         std::to_string(row.hit_err_p99));
     EXPECT_LT(row.hit_err_p99, target) << row.setting << " @ " << row.angle;
   }
+}
+
+// ---- issue 22: generated fields, air/below, shadow_err, --lod, the report's numbers ----
+
+TEST(SweepFields, GeneratedFieldsAreDeterministicAndWhatTheySay) {
+  for (const char* name : {"thin", "spikes", "ramp"}) {
+    Result<Texture> a = make_generated_depth(name, 64), b = make_generated_depth(name, 64);
+    ASSERT_TRUE(a.ok() && b.ok()) << name;
+    EXPECT_EQ(a->width(), 64);
+    EXPECT_EQ(a->levels(), 1) << name;
+    EXPECT_EQ(a->level(0).data, b->level(0).data) << name;  // bit-identical
+    for (int y = 0; y < 64; ++y)
+      for (int x = 0; x < 64; ++x) {
+        const float d = a->fetch_r(0, x, y);
+        ASSERT_TRUE(d >= 0.0f && d <= 1.0f) << name << " " << x << "," << y;
+      }
+  }
+  Result<Texture> thin = make_generated_depth("thin", 64);
+  int pillars = 0;
+  for (int y = 0; y < 64; ++y)
+    for (int x = 0; x < 64; ++x) {
+      const float d = thin->fetch_r(0, x, y);
+      if (x % 8 == 0 || y % 8 == 0)
+        EXPECT_EQ(d, 0.0f) << x << "," << y;  // the walls
+      else if (d < 1.0f) {
+        ++pillars;
+        EXPECT_LE(d, 0.1f);
+      }
+    }
+  EXPECT_GT(pillars, 10);  // ~3 % of 49 * 64 floor texels
+  EXPECT_LT(pillars, 250);
+  // spikes: every tip reaches depth 0 over 1 to 3 texels (per row), over a depth-1 floor
+  Result<Texture> sp = make_generated_depth("spikes", 128);
+  int tips = 0, floor = 0;
+  for (int y = 0; y < 128; ++y) {
+    int run = 0;
+    for (int x = 0; x <= 128; ++x) {
+      const float d = x < 128 ? sp->fetch_r(0, x, y) : 1.0f;
+      floor += d == 1.0f;
+      if (d == 0.0f) {
+        ++run;
+      } else if (run > 0) {
+        EXPECT_LE(run, 3) << "tip wider than 3 texels at row " << y;
+        ++tips;
+        run = 0;
+      }
+    }
+  }
+  EXPECT_GT(tips, 0);
+  EXPECT_GT(floor, 128 * 128 / 2);
+  // ramp: smooth along u (steps of 0.6 / n), one sharp 0.3 step at v = 1/2
+  Result<Texture> ramp = make_generated_depth("ramp", 64);
+  EXPECT_NEAR(ramp->fetch_r(0, 11, 5) - ramp->fetch_r(0, 10, 5), 0.6 / 64, 1e-6);
+  EXPECT_NEAR(ramp->fetch_r(0, 10, 32) - ramp->fetch_r(0, 10, 31), 0.3, 1e-6);
+  EXPECT_FALSE(make_generated_depth("thin", 48).ok());  // not a power of two
+  EXPECT_FALSE(make_generated_depth("marble", 64).ok());
+  // the built-in list holds them, named
+  Result<std::vector<Field>> all = builtin_fields();
+  ASSERT_TRUE(all.ok());
+  std::vector<std::string> names;
+  for (const Field& f : *all) names.push_back(f.name);
+  EXPECT_EQ(names, builtin_field_names());
+  for (const Field& f : *all) {
+    EXPECT_EQ(f.depth().levels(), 1) << f.name;  // level 0 for the level0 rows
+    ASSERT_TRUE(f.depth_mips) << f.name;
+    EXPECT_GT(f.depth_mips->levels(), 1) << f.name;  // the chain for as-rendered
+  }
+}
+
+// air_frac / below_frac: exact's hits lie on the surface (none in the air or below at any angle,
+// on every generated field); the `normal` plugin reports t = 0 at the geometric uv, so its air
+// fraction is exactly the share of fragments whose surface lies deeper than half a texel of
+// height, counted here independently from its own uv AOV.
+TEST(SweepAir, AirAndBelowCountHitsOffTheSurface) {
+  for (const char* name : {"thin", "spikes", "ramp"}) {
+    const Field f = generated(name);
+    Result<SweepResult> r = run_sweep({f}, settings({"exact", "relief"}, {32}), tiny({30, 60}, 32));
+    ASSERT_TRUE(r.ok()) << r.status().message();
+    for (const Row& row : r->rows) {
+      if (row.technique == "exact") {
+        EXPECT_EQ(row.air_frac, 0.0) << name << " @ " << row.angle;
+        EXPECT_EQ(row.below_frac, 0.0) << name << " @ " << row.angle;
+      }
+      EXPECT_GE(row.air_frac, 0.0);
+      EXPECT_LE(row.air_frac + row.below_frac, 1.0);
+      // the union of air and wrong layer
+      EXPECT_GE(row.wrong_occlusion_frac, std::max(row.air_frac, row.wrong_layer_frac));
+      EXPECT_LE(row.wrong_occlusion_frac, row.air_frac + row.wrong_layer_frac + 1e-12);
+    }
+  }
+  const Field thin = generated("thin");
+  EXPECT_NEAR(half_texel_depth(thin), 0.5 / (64 * 0.05), 1e-6);
+  const Setting flat{"normal", {}, "normal", 0};
+  Result<SweepResult> r = run_sweep({thin}, {flat}, tiny({30}, 32));
+  ASSERT_TRUE(r.ok()) << r.status().message();
+  const Scene scene = view_scene(thin, 30, 32, 32);
+  RenderOptions ro;
+  ro.width = ro.height = 32;
+  ro.threads = 2;
+  ro.shadows = false;
+  ro.technique = "normal";
+  ro.aovs = aov_bit(Aov::kHitUv) | aov_bit(Aov::kHitDepth);
+  const Framebuffer fb = test::render_frame(scene, ro).value_or(Framebuffer{});
+  const HeightField hf = HeightField::from_texture(thin.depth(), thin.material.sampler);
+  long air = 0, n = 0;
+  for (size_t i = 0; i < fb.depth.values.size(); ++i) {
+    if (!(fb.depth.values[i] > 0.0f)) continue;
+    const float* p = &fb.aov[i * kAovTotalChannels];
+    ASSERT_EQ(p[kAovOffset[1]], 0.0f);
+    ++n;
+    air += hf.depth_at(p[0], p[1]) > half_texel_depth(thin);
+  }
+  ASSERT_GT(n, 0);
+  EXPECT_GT(r->rows[0].air_frac, 0.5);  // most of `thin` is floor at depth 1
+  EXPECT_DOUBLE_EQ(r->rows[0].air_frac, static_cast<double>(air) / n);
+  EXPECT_GE(r->rows[0].wrong_occlusion_frac, r->rows[0].air_frac);
+  EXPECT_EQ(r->rows[0].below_frac, 0.0);
+}
+
+// shadow_ray_err checks the rendered self-shadow state against HeightField::shadowed from the
+// row's own hit toward the field's sun: 0 for exact (whose shadow ray is that test: this pins the
+// light step's convention), and, with the material's self-shadow switched off (so the frames show
+// no self-shadow at all, the reference's included), the share of hits the sun cannot see, while
+// shadow_err against the equally unshadowed reference stays 0.
+TEST(SweepShadow, ShadowRayErrIsAgainstTheTrueShadowOfTheHit) {
+  Field f = generated("thin");
+  double lz = 0.0;
+  const glm::dvec2 dl = view_light_step(f, &lz);
+  ASSERT_GT(lz, 0.0);
+  ASSERT_GT(std::hypot(dl.x, dl.y), 0.0);
+  Result<SweepResult> r = run_sweep({f}, settings({"exact"}, {}), tiny({0, 45}, 32));
+  ASSERT_TRUE(r.ok()) << r.status().message();
+  for (const Row& row : r->rows) {
+    EXPECT_GT(row.shadow_compared, 0);
+    EXPECT_EQ(row.shadow_err, 0.0) << row.angle;
+    EXPECT_EQ(row.shadow_ray_err, 0.0) << row.angle;
+  }
+  f.material.self_shadow = false;
+  r = run_sweep({f}, settings({"exact"}, {}), tiny({0, 45}, 32));
+  ASSERT_TRUE(r.ok()) << r.status().message();
+  for (const Row& row : r->rows) {
+    EXPECT_EQ(row.shadow_err, 0.0) << row.angle;
+    EXPECT_GT(row.shadow_ray_err, 0.05) << row.angle;  // walls shadow the floor
+  }
+}
+
+// --lod as-rendered: the rows carry their mode; exact still samples level 0 (zero error), and a
+// linear search drawn with the mip chain is measured against the level-0 surface, so its error
+// is larger than at level 0 on `bricks` (the mips average away the mortar's edges).
+TEST(SweepLod, AsRenderedRowsAreMeasuredAgainstLevel0) {
+  Options o = tiny({45}, 48);
+  o.lods = {kLodLevel0, kLodAsRendered};
+  Result<SweepResult> r = run_sweep({bricks()}, settings({"relief", "exact"}, {32}), o);
+  ASSERT_TRUE(r.ok()) << r.status().message();
+  ASSERT_EQ(r->rows.size(), 4u);
+  std::map<std::pair<std::string, std::string>, const Row*> by;
+  for (const Row& row : r->rows) by[{row.technique, row.lod}] = &row;
+  ASSERT_EQ(by.size(), 4u);
+  for (const char* lod : {kLodLevel0, kLodAsRendered}) {
+    const Row& e = *by[std::pair<std::string, std::string>("exact", lod)];
+    EXPECT_EQ(e.hit_err_p99, 0.0) << lod;
+    EXPECT_EQ(e.air_frac, 0.0) << lod;
+  }
+  const Row& l0 = *by[{"relief", kLodLevel0}];
+  const Row& ar = *by[{"relief", kLodAsRendered}];
+  EXPECT_GT(ar.hit_err_mean, 2.0 * l0.hit_err_mean + 0.01);
+  EXPECT_GT(ar.air_frac + ar.below_frac, l0.air_frac + l0.below_frac);
+  // the as-rendered scene binds the chain, the level-0 one level 0 alone
+  const Field b = bricks();
+  EXPECT_EQ(view_scene(b, 45, 8, 8).materials[0].textures.at("depth")->levels(), 1);
+  EXPECT_GT(view_scene(b, 45, 8, 8, true).materials[0].textures.at("depth")->levels(), 1);
+  o.lods = {"sideways"};
+  EXPECT_FALSE(run_sweep({b}, settings({"exact"}, {}), o).ok());
+}
+
+TEST(SweepReport, NumbersAreForPeople) {
+  EXPECT_EQ(format_number(1.57442e-09), "<1e-6");
+  EXPECT_EQ(format_number(0.0), "0");
+  EXPECT_EQ(format_number(0.123456), "0.123");
+  EXPECT_EQ(format_number(12.3456), "12.3");
+  EXPECT_EQ(format_number(9.996), "10.0");
+  EXPECT_EQ(format_number(0.0009996), "0.00100");
+  EXPECT_EQ(format_number(2508.4), "2508");
+  EXPECT_EQ(format_number(-0.5), "-0.500");
+  EXPECT_EQ(format_number(-1.0), "-1");
+  EXPECT_EQ(format_number(30.0), "30");
+  EXPECT_EQ(format_number(16.5), "16.5");
+  EXPECT_EQ(format_number(std::nan("")), "n/a");
+  EXPECT_EQ(format_number(3.2e7), "3.2e+07");
 }
 
 }  // namespace
