@@ -128,8 +128,11 @@ Result<Field> builtin_field(const std::string& name) {
     f->name = name;
     return f;
   }
-  // generated: 256 x 256 texels, depth_scale 0.05 (as `pattern`), trilinear repeat sampler
-  Result<Texture> t = make_generated_depth(name, 256);
+  return generated_field(name, 256);
+}
+
+Result<Field> generated_field(const std::string& name, int size) {
+  Result<Texture> t = make_generated_depth(name, size);
   if (!t.ok()) return t.status();
   Scene holder;
   Material m;

@@ -81,6 +81,9 @@ Result<Field> builtin_field(const std::string& name);
 // smoothly from 0.1 to 0.7 across u, plus a sharp 0.3 step at v = 1/2; the tile's repeat adds the
 // steps back at u = 0 and v = 0). Error: another name or size.
 Result<Texture> make_generated_depth(const std::string& name, int size);
+// The field of make_generated_depth(name, size): depth_scale 0.05 (as `pattern`), a trilinear
+// repeat sampler, the colour and normal map field_of_material derives. builtin_field uses 256.
+Result<Field> generated_field(const std::string& name, int size);
 // The field of a scene's material: its depth (level 0), colour (depth-coded when it has none),
 // normal map (baked from depth when it has none), depth_scale (the plugins' default when unset)
 // and sampler, lit by the scene's first directional light (the `plane` scene's sun when it has

@@ -35,18 +35,11 @@ struct ConeField {
 
   ConeField(std::string n, FloatField field) : name(std::move(n)), f(std::move(field)) {
     exact = f.exact();
-    const Texture depth = Texture::from_floats(TexFormat::kR32F, f.w, f.h, f.d.data());
-    // the maps the plugins derive (render/derived_maps.h): bilinear-safe conservative cones
-    ConeBakeOptions o;
-    o.wrap = true;
-    o.bilinear = true;
-    o.kind = ConeKind::kConservative;
-    cons = bake_cone_map(depth, o);
-    o.kind = ConeKind::kQuad;
-    quad = bake_cone_map(depth, o);
-    o.bilinear = false;
-    o.kind = ConeKind::kRelaxed;
-    relaxed = bake_cone_map(depth, o);
+    testing::PluginConeMaps maps = testing::bake_plugin_cone_maps(
+        Texture::from_floats(TexFormat::kR32F, f.w, f.h, f.d.data()));
+    cons = std::move(maps.cons);
+    quad = std::move(maps.quad);
+    relaxed = std::move(maps.relaxed);
   }
   TextureCone cone(const Texture& t) const {
     TextureCone c;

@@ -8,6 +8,7 @@
 #include <random>
 #include <vector>
 
+#include "bake/cone_map.h"
 #include "rasterizer/texture.h"
 #include "shaders_cpp/exact.h"
 
@@ -72,6 +73,26 @@ inline FloatField smooth_bumps(int n) {
       f.d[static_cast<size_t>(j) * n + i] = static_cast<float>(std::clamp(v, 0.0, 1.0));
     }
   return f;
+}
+
+// The three cone maps the cone plugins derive from a level-0 depth map (render/derived_maps.h):
+// bilinear-safe conservative and quad-directional cones, relaxed cones; tiling.
+struct PluginConeMaps {
+  Texture cons, quad, relaxed;
+};
+inline PluginConeMaps bake_plugin_cone_maps(const Texture& depth) {
+  PluginConeMaps maps;
+  ConeBakeOptions o;
+  o.wrap = true;
+  o.bilinear = true;
+  o.kind = ConeKind::kConservative;
+  maps.cons = bake_cone_map(depth, o);
+  o.kind = ConeKind::kQuad;
+  maps.quad = bake_cone_map(depth, o);
+  o.bilinear = false;
+  o.kind = ConeKind::kRelaxed;
+  maps.relaxed = bake_cone_map(depth, o);
+  return maps;
 }
 
 struct RandomRay {

@@ -41,17 +41,11 @@ struct Field {
       : name(std::move(n)), w(width), h(height), d(std::move(values)) {
     depth = Texture::from_floats(TexFormat::kR32F, w, h, d.data());
     depth.generate_mips(MipReduce::kAverage);
-    const Texture level0 = Texture::from_floats(TexFormat::kR32F, w, h, d.data());
-    ConeBakeOptions o;
-    o.wrap = true;
-    o.bilinear = true;
-    o.kind = ConeKind::kConservative;
-    cons = bake_cone_map(level0, o);
-    o.kind = ConeKind::kQuad;
-    quad = bake_cone_map(level0, o);
-    o.bilinear = false;
-    o.kind = ConeKind::kRelaxed;
-    relaxed = bake_cone_map(level0, o);
+    testing::PluginConeMaps maps =
+        testing::bake_plugin_cone_maps(Texture::from_floats(TexFormat::kR32F, w, h, d.data()));
+    cons = std::move(maps.cons);
+    quad = std::move(maps.quad);
+    relaxed = std::move(maps.relaxed);
     exact = HeightField(w, h, d.data(), Wrap::kRepeat, Wrap::kRepeat);
   }
   TextureDepth source(float lod) const {
@@ -61,16 +55,11 @@ struct Field {
     for (float& l : s.lod) l = lod;
     return s;
   }
-  TextureCone cone(const Texture& t, float lod) const {
-    TextureCone c;
+  // A cone source (TextureCone or QuadTextureCone) reading `t` at `lod`.
+  template <class Cone = TextureCone>
+  Cone cone(const Texture& t, float lod) const {
+    Cone c;
     c.texture = &t;
-    c.sampler = cone_sampler(sampler);
-    for (float& l : c.lod) l = lod;
-    return c;
-  }
-  QuadTextureCone quad_cone(float lod) const {
-    QuadTextureCone c;
-    c.texture = &quad;
     c.sampler = cone_sampler(sampler);
     for (float& l : c.lod) l = lod;
     return c;
@@ -215,7 +204,7 @@ TEST(SurfaceConsistency, EverySearchedHitLiesOnTheSurfaceItSampled) {
       for (int m : {6, 12}) {
         const TextureDepth src = f.source(lod);
         const TextureCone cons = f.cone(f.cons, lod), rel = f.cone(f.relaxed, lod);
-        const QuadTextureCone quad0 = f.quad_cone(lod);
+        const QuadTextureCone quad0 = f.cone<QuadTextureCone>(f.quad, lod);
         struct Named {
           const char* name;
           Consistency c;

@@ -36,16 +36,8 @@ Field small_pattern() {
 
 // A generated field (thin, spikes, ramp) at `size` texels, as builtin_fields() makes it.
 Field generated(const std::string& name, int size = 64) {
-  Result<Texture> t = make_generated_depth(name, size);
-  EXPECT_TRUE(t.ok()) << name;
-  Scene holder;
-  Material m;
-  m.name = name;
-  m.params["depth_scale"] = 0.05f;
-  m.textures["depth"] = std::make_shared<Texture>(std::move(t).value());
-  holder.materials.push_back(m);
-  Result<Field> f = field_of_material(holder, 0);
-  EXPECT_TRUE(f.ok());
+  Result<Field> f = generated_field(name, size);
+  EXPECT_TRUE(f.ok()) << name;
   return std::move(f).value();
 }
 
