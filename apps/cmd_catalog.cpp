@@ -25,7 +25,8 @@ std::string effect_names(EffectMask e) {
 }  // namespace
 
 void register_techniques(CLI::App& app, Action& action) {
-  auto* sub = app.add_subcommand("techniques", "List the shading techniques (plugins) and their parameters");
+  auto* sub = app.add_subcommand("techniques",
+                                 "List the shading techniques (plugins) and their parameters");
   auto plugins = std::make_shared<std::vector<std::string>>();
   sub->add_option("--plugin", *plugins, "Load an external plugin (.so) first");
   sub->callback([&action, plugins] {

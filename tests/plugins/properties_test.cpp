@@ -7,7 +7,8 @@
 // nearest fragment on the near plane, or the farthest on a finite far plane (so displaced hits
 // lie beyond it).
 //   - colour, depth and every AOV are finite; hit depth in [0, 1]; a written depth lies in
-//     [0, the fragment's depth] (reversed-Z: never nearer than the surface, 0 beyond the far plane);
+//     [0, the fragment's depth] (reversed-Z: never nearer than the surface, 0 beyond the far
+//     plane);
 //   - the hit lies on the view ray: hit uv = uv + hit_depth * ds, ds = V.xy * scale / -V.z (the
 //     texture-space ray of shaders_cpp/ray.h), for every technique that searches along the ray
 //     (parallax's single offset only has to point along it, and so does relief_quadric's hit on a
@@ -45,8 +46,8 @@ enum class Content { kZero, kOne, kSpike, kWall, kNoise };
 const char* const kContentName[] = {"all0", "all1", "spike", "wall", "noise"};
 
 // Per-vertex quadric coefficients (a, b) of the surface (varying::kQuadric; relief_quadric's).
-const float kQuadrics[][2] = {{0.0f, 0.0f},  {0.5f, 0.5f},   {-0.5f, -0.5f}, {0.5f, -0.5f},
-                              {1e4f, 1e4f},  {-1e4f, 1e4f},  {1e-7f, 1e-7f}, {0.0f, 2.0f}};
+const float kQuadrics[][2] = {{0.0f, 0.0f}, {0.5f, 0.5f},  {-0.5f, -0.5f}, {0.5f, -0.5f},
+                              {1e4f, 1e4f}, {-1e4f, 1e4f}, {1e-7f, 1e-7f}, {0.0f, 2.0f}};
 const char* const kClipName[] = {"inside", "near plane", "far plane"};
 
 struct TexCase {
@@ -111,7 +112,7 @@ struct Case {
   bool constant_uv;  // every lane at the same uv (zero derivatives)
   int quadric;       // index into kQuadrics
   bool back_facing;  // the eye below the surface, the packet back-facing
-  int clip;          // 0: eye 2 units away, 1: nearest lane on the near plane, 2: farthest on the far
+  int clip;  // 0: eye 2 units away, 1: nearest lane on the near plane, 2: farthest on the far
 
   std::string describe() const {
     std::ostringstream os;
@@ -138,12 +139,11 @@ Case make_case(uint32_t seed) {
   const double tilings[] = {1e-3, 0.1, 1.0, 10.0, 1e3};
   c.tiling = tilings[pick(5)];
   c.origin = pick(4) == 0 ? glm::dvec3(1e5, -1e5, 1e5) : glm::dvec3(uni(-2, 2), uni(-2, 2), 0.0);
-  const TexCase texes[] = {{1, 1, Content::kZero},    {1, 1, Content::kOne},
-                           {2, 2, Content::kSpike},   {3, 1, Content::kNoise},
-                           {1, 5, Content::kWall},    {16, 16, Content::kSpike},
-                           {32, 16, Content::kWall},  {16, 64, Content::kNoise},
-                           {64, 64, Content::kWall},  {4096, 4096, Content::kOne},
-                           {2, 4096, Content::kSpike}, {4096, 2, Content::kOne}};
+  const TexCase texes[] = {
+      {1, 1, Content::kZero},      {1, 1, Content::kOne},      {2, 2, Content::kSpike},
+      {3, 1, Content::kNoise},     {1, 5, Content::kWall},     {16, 16, Content::kSpike},
+      {32, 16, Content::kWall},    {16, 64, Content::kNoise},  {64, 64, Content::kWall},
+      {4096, 4096, Content::kOne}, {2, 4096, Content::kSpike}, {4096, 2, Content::kOne}};
   c.tex = texes[pick(12)];
   c.scale_choice = pick(3);
   c.frame_kind = pick(8) < 5 ? 0 : 1 + pick(3);
@@ -215,9 +215,12 @@ struct PacketCase {
     for (int s = 0; s < p.num_textures; ++s) {
       const std::string name = p.textures[s].name;
       material.samplers[s].filter = Filter::kBilinear;
-      if (name == "depth") material.textures[s] = &depth;
-      else if (is_derived_slot(name)) material.textures[s] = derived_map(name, c.tex);
-      else if (p.textures[s].required) material.textures[s] = &depth;  // an unknown map
+      if (name == "depth")
+        material.textures[s] = &depth;
+      else if (is_derived_slot(name))
+        material.textures[s] = derived_map(name, c.tex);
+      else if (p.textures[s].required)
+        material.textures[s] = &depth;  // an unknown map
     }
 
     packet.num_quads = kPacketQuads;
@@ -233,12 +236,26 @@ struct PacketCase {
       for (int l = 0; l < 4; ++l) {
         const int ln = q * 4 + l;
         const glm::dvec3 pos = c.origin + lane_offset(ln);
-        const float u = static_cast<float>(pos.x * c.tiling), v = static_cast<float>(pos.y * c.tiling);
+        const float u = static_cast<float>(pos.x * c.tiling),
+                    v = static_cast<float>(pos.y * c.tiling);
         uv0[ln][0] = u;
         uv0[ln][1] = v;
-        const float vals[varying::kCount] = {float(pos.x), float(pos.y), float(pos.z), n.x, n.y, n.z,
-                                             t.x, t.y, t.z, 1.0f, u, v, kQuadrics[c.quadric][0],
-                                             kQuadrics[c.quadric][1], tile, tile};
+        const float vals[varying::kCount] = {float(pos.x),
+                                             float(pos.y),
+                                             float(pos.z),
+                                             n.x,
+                                             n.y,
+                                             n.z,
+                                             t.x,
+                                             t.y,
+                                             t.z,
+                                             1.0f,
+                                             u,
+                                             v,
+                                             kQuadrics[c.quadric][0],
+                                             kQuadrics[c.quadric][1],
+                                             tile,
+                                             tile};
         for (int k = 0; k < varying::kCount; ++k) packet.varyings[k][ln] = vals[k];
         const glm::dvec4 clip = glm::dmat4(frame.view_proj) * glm::dvec4(pos, 1.0);
         packet.frag_x[ln] = static_cast<float>(ln % 8);
@@ -296,8 +313,8 @@ TEST(Properties, EveryTechniqueFiniteOnTheRayAndConesNeverInTheAir) {
       PacketCase s(*p, c);
       const EffectMask e = p->supported_effects & (kEffectSelfShadow | kEffectDepthWrite);
       for (bool scalar : {false, true}) {
-        const std::string where = std::string(p->name) + (scalar ? " scalar" : " 8-lane") +
-                                  ", " + c.describe();
+        const std::string where =
+            std::string(p->name) + (scalar ? " scalar" : " 8-lane") + ", " + c.describe();
         auto o = s.shade(e, scalar);
         const FragmentOutput* ex = nullptr;
         if (cone_family(p->name) && regular) {
@@ -305,7 +322,8 @@ TEST(Properties, EveryTechniqueFiniteOnTheRayAndConesNeverInTheAir) {
           ex = exact_out[scalar].get();
         }
         for (int ln = 0; ln < kPacketLanes; ++ln) {
-          for (int k = 0; k < 4; ++k) ASSERT_TRUE(std::isfinite(o->color[k][ln])) << where << " lane " << ln;
+          for (int k = 0; k < 4; ++k)
+            ASSERT_TRUE(std::isfinite(o->color[k][ln])) << where << " lane " << ln;
           for (int k = 0; k < kAovTotalChannels; ++k)
             ASSERT_TRUE(std::isfinite(o->aov[k][ln])) << where << " lane " << ln << " aov " << k;
           if (e & kEffectDepthWrite) {
