@@ -9,8 +9,8 @@
 // writes the hit's depth; shadows come from shadow maps (section 3.5: the deformed field has no
 // texture-space entry point for a shadow ray), so there is no self_shadow effect.
 // `search=relaxed_cone` replaces the linear + binary search with relaxed cone stepping on the
-// deformed field then halvings of the last bracket (shaders_cpp/quadric.h,
-// quadric_relaxed_cone_search); the relaxed cone map of slot 3 is baked from the depth map only
+// deformed field, a bracket-safe fallback (`fallback_steps`) and halvings of the last bracket,
+// all on the material's filtered depth (shaders_cpp/quadric.h, quadric_relaxed_cone_search); the relaxed cone map of slot 3 is baked from the depth map only
 // when that search is chosen (reads_texture).
 // Shares with the relief shell (plugins/relief_shell.h) the tangent frame, the per-quad depth
 // LOD, the normal and colour maps and the lights.
@@ -29,7 +29,8 @@ enum Param {
   kDepthScaleParam,
   kDistanceParam,
   kSearchParam,
-  kConeStepsParam
+  kConeStepsParam,
+  kFallbackStepsParam
 };
 const ParamSpec kParams[] = {
     {"steps", ParamType::kInt, 32.0f, 1.0f, 256.0f, nullptr,
@@ -44,6 +45,7 @@ const ParamSpec kParams[] = {
      "deformed field (relaxed cone map baked from depth if absent)"},
     {"cone_steps", ParamType::kInt, 15.0f, 1.0f, 256.0f, nullptr,
      "relaxed cone steps (search=relaxed_cone; GPU Gems 3 ch. 18 uses 15)"},
+    kConeFallbackStepsSpec,  // search=relaxed_cone
 };
 const TextureSlotSpec kSlots[] = {kBaseColorSlotSpec, kNormalSlotSpec, kDepthSlotSpec,
                                   {"cone_relaxed", false,
@@ -90,8 +92,13 @@ struct QuadricKernel {
       TextureCone cone;
       QuadricHit<F> h;
       if (relaxed_search(p) && make_cone_source(ctx, depth, cone)) {
-        h = quadric_relaxed_cone_search<kD>(nearest_depth(depth), depth, cone, in.uv, ray,
-                                            static_cast<int>(p[kConeStepsParam]), m_steps, active);
+        const V2<F> duv(ray.dir.x, ray.dir.y);
+        const F view_floor =
+            half_texel_along(depth.texture->width(), depth.texture->height(), duv);
+        h = quadric_relaxed_cone_search<kD>(depth, cone, in.uv, ray,
+                                            static_cast<int>(p[kConeStepsParam]),
+                                            static_cast<int>(p[kFallbackStepsParam]), m_steps,
+                                            view_floor, active);
       } else {
         const F n = relief_step_count(V.z, p[kMinSteps], p[kSteps]);
         h = quadric_search<kD>(depth, in.uv, ray, n, m_steps, active);

@@ -202,51 +202,73 @@ inline QuadricHit<F> quadric_search(const Depth& depth, V2<F> uv, const QuadricR
 // dt to the boundary of the texel's cone (apex on the surface, opening upward, ratio r) solves
 //   rho dt = r (h - (D'(t) dt - k dt^2)),   D'(t) = dz - 2 k t,
 // which is the chapter's equation 3 (dt = r h / (rho + r dz)) when k = 0. No positive root
-// (a ray rising faster than the cone opens): the step goes to t_max; a zero ratio: no step. The gap h uses the
-// plugin's distance (equation 6 or 7); the step always the vertical parabola.
-// A lane stops at the first sample inside (map <= D, or t_max on a bottom ray), at t_max (a
-// returning ray: outside there is a silhouette miss), or after n steps: it then takes the point
-// it reached as the hit, as the chapter takes K. Lanes that stopped inside get m halvings of
-// [last outside sample, first inside sample] on `depth` (the material's filtering; the march
-// reads `march_depth`, the nearest-texel field the relaxed cones are defined on). Counters:
-// one step and two fetches per march sample (depth and cone), one each per halving.
-template <QuadricDistance kD, class F, class MarchDepth, class Depth, class Cone>
-inline QuadricHit<F> quadric_relaxed_cone_search(const MarchDepth& march_depth, const Depth& depth,
-                                                 const Cone& cone, V2<F> uv,
-                                                 const QuadricRay<F>& r, int n, int m,
-                                                 mask_t<F> active) {
+// (a ray rising faster than the cone opens): the step goes to t_max; a zero ratio: no step. The
+// gap h uses the plugin's distance (equation 6 or 7); the step always the vertical parabola.
+// The march, its fallback and the halvings all read `depth`, the material's filtering (issue 22:
+// marching the nearest-texel field and halving the bilinear one gave brackets that were not
+// brackets, so hits in the air), and end bracket-safe as the flat cone family does
+// (shaders_cpp/cone.h, cone_finish): a lane stops at the first sample inside (map <= D, or t_max
+// on a bottom ray), at t_max (a returning ray: outside there is a silhouette miss), or after n
+// steps. A lane the n steps left outside takes k more cone steps of at least min((t_max - t) / k,
+// view_floor) (half a texel along the ray), then k even samples over what is left of [t, t_max);
+// still outside at t_max, a bottom ray is inside there (depth 1), a returning ray a miss. Lanes
+// found inside get m halvings of [last outside sample, first inside sample]: every hit is a
+// sample of `depth` at or under the deformed surface. Counters: one step and two fetches per
+// cone step (depth and cone), one each per even sample and per halving. k >= 1.
+template <QuadricDistance kD, class F, class Depth, class Cone>
+inline QuadricHit<F> quadric_relaxed_cone_search(const Depth& depth, const Cone& cone, V2<F> uv,
+                                                 const QuadricRay<F>& r, int n, int k, int m,
+                                                 F view_floor, mask_t<F> active) {
   const V2<F> duv(r.dir.x, r.dir.y);
   const F rho = vsqrt(duv.x * duv.x + duv.y * duv.y);
-  const F k = r.alpha * r.dir.x * r.dir.x + r.beta * r.dir.y * r.dir.y;
+  const F kk = r.alpha * r.dir.x * r.dir.x + r.beta * r.dir.y * r.dir.y;
   const F none(3.0e38f);
   F t(0.0f), t_out(0.0f), steps(0.0f), fetches(0.0f);
   mask_t<F> marching = active, found = false_mask<F>();
-  for (int i = 0; i < n && any(marching); ++i) {
-    const ConeTexel<F> c = sample_cone_texel(march_depth, cone, uv + duv * t, marching, steps,
-                                             fetches);
-    const F ratio = c.ratio;
+  // one cone step from t for the lanes in `go`, at least `floor`; returns whether t was inside
+  const auto cone_step = [&](mask_t<F>& go, F floor) {
+    const ConeTexel<F> c = sample_cone_texel(depth, cone, uv + duv * t, go, steps, fetches);
     const mask_t<F> end = t >= r.t_max;
     const F h = c.depth - quadric_distance<kD>(r, t);
-    const mask_t<F> in = (h <= F(0.0f)) | (end & r.bottom);
-    found = found | (marching & in);
-    marching = marching & !in & !end;
-    t_out = select(marching, t, t_out);
+    const mask_t<F> in = go & ((h <= F(0.0f)) | (end & r.bottom));
+    found = found | in;
+    go = go & !in & !end;
+    t_out = select(go, t, t_out);
     // the smallest dt > 0 on the cone's boundary: r k dt^2 - (rho + r D') dt + r h = 0
-    const F slope = r.dir.z - F(2.0f) * k * t;
-    const F root = detail::smallest_positive_root(ratio * k, F(0.0f) - (rho + ratio * slope),
-                                                  ratio * h, none);
-    const F dt = select(ratio > F(0.0f), root, F(0.0f));  // a zero cone: no step (as equation 3)
-    t = select(marching, vmin(t + dt, r.t_max), t);
+    const F slope = r.dir.z - F(2.0f) * kk * t;
+    const F root = detail::smallest_positive_root(c.ratio * kk, F(0.0f) - (rho + c.ratio * slope),
+                                                  c.ratio * h, none);
+    const F dt = select(c.ratio > F(0.0f), root, F(0.0f));  // a zero cone: no step (equation 3)
+    t = select(go, vmin(t + vmax(dt, floor), r.t_max), t);
+  };
+  for (int i = 0; i < n && any(marching); ++i) cone_step(marching, F(0.0f));
+  // the fallback for lanes the march left outside: floored cone steps, then even samples
+  const float inv_k = 1.0f / static_cast<float>(k);
+  const F floor = vmin((r.t_max - t) * F(inv_k), view_floor);
+  for (int j = 0; j < k && any(marching); ++j) cone_step(marching, floor);
+  const F s0 = t, rest = r.t_max - t;
+  for (int j = 0; j < k && any(marching); ++j) {
+    t = select(marching, s0 + rest * F(static_cast<float>(j) * inv_k), t);
+    const F d = sample_depth(depth, uv + duv * t, marching);
+    steps += detail::count<F>(marching);
+    fetches += detail::count<F>(marching);
+    const mask_t<F> in = marching & (d <= quadric_distance<kD>(r, t));
+    found = found | in;
+    marching = marching & !in;
+    t_out = select(marching, t, t_out);
   }
-  // out of steps: the point reached is the hit
-  const mask_t<F> stalled = marching;
+  // still outside: t_max closes a bottom ray's bracket (depth 1 is under every surface); a
+  // returning ray left the relief without a hit
+  const mask_t<F> at_end = marching & r.bottom;
+  t = select(marching, r.t_max, t);
+  found = found | at_end;
   F lo = t_out, hi = t;
   bisect(lo, hi, found & (hi > lo), m, 1.0f, steps, fetches, [&](const F& mid, mask_t<F> refine) {
     return sample_depth(depth, uv + duv * mid, refine) <= quadric_distance<kD>(r, mid);
   });
   QuadricHit<F> out;
-  out.t = select(found | stalled, hi, F(0.0f));
-  out.miss = active & !found & !stalled;
+  out.t = select(found, hi, F(0.0f));
+  out.miss = active & !found;
   out.hit.uv = uv + duv * out.t;
   out.hit.depth = clamp(quadric_distance<kD>(r, out.t), F(0.0f), F(1.0f));
   out.hit.steps = steps;

@@ -158,39 +158,71 @@ QuadricHit quadric_search(int kind, TextureDepth depth, vec2 uv, QuadricRay r, f
 }
 
 // quadric_relaxed_cone_search (search=relaxed_cone): relaxed cone stepping on the deformed field,
-// n steps of the nearest-texel depth and the cone map (cone.glsl, included before this file),
-// each solving r k dt^2 - (rho + r D') dt + r h = 0 for the step to the cone's boundary; then m
-// halvings of [last outside, first inside] on the filtered depth. Out of steps: the point reached
-// is the hit; reaching t_max outside (a returning ray): a silhouette miss.
-QuadricHit quadric_relaxed_cone_search(int kind, TextureDepth depth, ConeSource cone, vec2 uv,
-                                       QuadricRay r, int n, int m) {
+// n steps of the filtered depth and the cone map (cone.glsl, included before this file), each
+// solving r k dt^2 - (rho + r D') dt + r h = 0 for the step to the cone's boundary; a lane left
+// outside takes k floored cone steps (at least min((t_max - t) / k, half a texel along the ray))
+// then k even samples of the rest; at t_max a bottom ray is inside, a returning ray a silhouette
+// miss. Then m halvings of [last outside, first inside], all on the filtered depth.
+float quadric_cone_t, quadric_cone_t_out;
+bool quadric_cone_found;
+// one cone step from quadric_cone_t, at least `floor`; returns whether the lane goes on
+bool quadric_cone_step(int kind, TextureDepth depth, ConeSource cone, vec2 uv, QuadricRay r,
+                       float floor_, inout float steps, inout float fetches) {
   vec2 duv = vec2(r.dir.x, r.dir.y);
   float rho = sqrt(duv.x * duv.x + duv.y * duv.y);
   precise float k = r.alpha * r.dir.x * r.dir.x + r.beta * r.dir.y * r.dir.y;
-  float none = 3.0e38;
-  float t = 0.0, t_out = 0.0, steps = 0.0, fetches = 0.0;
-  bool marching = true, found = false;
-  for (int i = 0; i < n && marching; ++i) {
-    ConeTexel c = cone_texel(depth, true, cone, uv + duv * t, steps, fetches);
-    float ratio = c.ratio;
-    bool end_ = t >= r.t_max;
-    precise float h = c.depth - quadric_distance(kind, r, t);
-    bool inside = h <= 0.0 || (end_ && r.bottom);
-    found = found || inside;
-    marching = !inside && !end_;
-    if (!marching) break;
-    t_out = t;
-    precise float slope = r.dir.z - 2.0 * k * t;
-    precise float q1 = 0.0 - (rho + ratio * slope);
-    float root = smallest_positive_root(ratio * k, q1, ratio * h, none);
-    float dt = ratio > 0.0 ? root : 0.0;
-    t = min(t + dt, r.t_max);
+  float t = quadric_cone_t;
+  ConeTexel c = cone_texel(depth, false, cone, uv + duv * t, steps, fetches);
+  bool end_ = t >= r.t_max;
+  precise float h = c.depth - quadric_distance(kind, r, t);
+  bool inside = h <= 0.0 || (end_ && r.bottom);
+  quadric_cone_found = quadric_cone_found || inside;
+  if (inside || end_) return false;
+  quadric_cone_t_out = t;
+  precise float slope = r.dir.z - 2.0 * k * t;
+  precise float q1 = 0.0 - (rho + c.ratio * slope);
+  float root = smallest_positive_root(c.ratio * k, q1, c.ratio * h, 3.0e38);
+  float dt = c.ratio > 0.0 ? root : 0.0;
+  quadric_cone_t = min(t + max(dt, floor_), r.t_max);
+  return true;
+}
+
+QuadricHit quadric_relaxed_cone_search(int kind, TextureDepth depth, ConeSource cone, vec2 uv,
+                                       QuadricRay r, int n, int k, int m) {
+  vec2 duv = vec2(r.dir.x, r.dir.y);
+  float steps = 0.0, fetches = 0.0;
+  quadric_cone_t = 0.0;
+  quadric_cone_t_out = 0.0;
+  quadric_cone_found = false;
+  bool marching = true;
+  for (int i = 0; i < n && marching; ++i)
+    marching = quadric_cone_step(kind, depth, cone, uv, r, 0.0, steps, fetches);
+  float inv_k = 1.0 / float(k);
+  float floor_ = min((r.t_max - quadric_cone_t) * inv_k, half_texel_along(duv));
+  for (int j = 0; j < k && marching; ++j)
+    marching = quadric_cone_step(kind, depth, cone, uv, r, floor_, steps, fetches);
+  float s0 = quadric_cone_t, rest = r.t_max - quadric_cone_t;
+  for (int j = 0; j < k && marching; ++j) {
+    float t = s0 + rest * (float(j) * inv_k);
+    quadric_cone_t = t;
+    float d = sample_depth(depth, uv + duv * t);
+    steps += 1.0;
+    fetches += 1.0;
+    bool inside = d <= quadric_distance(kind, r, t);
+    quadric_cone_found = quadric_cone_found || inside;
+    marching = !inside;
+    if (marching) quadric_cone_t_out = t;
   }
-  bool stalled = marching;
-  float hi = quadric_bisect(kind, depth, uv, r, t_out, t, found, m, steps, fetches);
+  if (marching) {
+    quadric_cone_t = r.t_max;
+    quadric_cone_found = quadric_cone_found || r.bottom;
+  }
+  bool found = quadric_cone_found;
+  float hi = quadric_bisect(kind, depth, uv, r, quadric_cone_t_out, quadric_cone_t, found, m,
+                            steps, fetches);
   QuadricHit o;
-  o.t = (found || stalled) ? hi : 0.0;
-  o.miss = !found && !stalled;
+  o.t = found ? hi : 0.0;
+  o.miss = !found;
   o.hit = SearchHit(uv + duv * o.t, clamp(quadric_distance(kind, r, o.t), 0.0, 1.0), steps, fetches);
   return o;
 }

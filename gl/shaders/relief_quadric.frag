@@ -6,7 +6,7 @@
 // that leave the relief without a hit are discarded (silhouette), whatever the material's
 // effects. Depth correction writes the hit's depth; no self-shadow (section 3.5), shadow maps
 // looked up at the hit. Shares the relief shell's frame, per-quad LOD, normal and colour maps.
-// search=relaxed_cone: relaxed cone stepping on the deformed field (quadric.glsl).
+// search=relaxed_cone: relaxed cone stepping on the deformed field, bracket-safe (quadric.glsl).
 // Misses discard: no early fragment tests (common.glsl).
 #define RELIEF_MAY_DISCARD 1
 #include "common.glsl"
@@ -24,6 +24,7 @@ const int kDepthScale = 3;
 const int kDistance = 4;
 const int kSearch = 5;
 const int kConeSteps = 6;
+const int kFallbackSteps = 7;
 
 const int kBaseColorSlot = 0;
 const int kNormalSlot = 1;
@@ -65,7 +66,8 @@ ShadeOut shade(FragIn in_) {
     if (material.params[kSearch] >= 0.5 && has_texture[kConeSlot]) {
       ConeSource cone = make_cone_source(depth, false);
       h = quadric_relaxed_cone_search(kind, depth, cone, in_.uv, ray,
-                                      int(material.params[kConeSteps]), m);
+                                      int(material.params[kConeSteps]),
+                                      int(material.params[kFallbackSteps]), m);
     } else {
       float n = relief_step_count(V.z, material.params[kMinSteps], material.params[kSteps]);
       h = quadric_search(kind, depth, in_.uv, ray, n, m);

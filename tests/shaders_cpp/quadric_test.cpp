@@ -208,7 +208,7 @@ void hard_cases() {
         float operator()(int, float, float) const { return 0.6f; }
       };
       const QuadricHit<float> hc = quadric_relaxed_cone_search<kD>(
-          Hills(), Hills(), Ratio(), V2<float>(0.3f, 0.7f), rs, 15, 8, true);
+          Hills(), Ratio(), V2<float>(0.3f, 0.7f), rs, 15, 8, 8, 1.0f / 512.0f, true);
       ASSERT_TRUE(std::isfinite(hc.t) && hc.t >= 0.0f && hc.t <= rs.t_max) << first << " " << qi;
       ASSERT_TRUE(std::isfinite(hc.hit.depth) && hc.hit.depth >= 0.0f && hc.hit.depth <= 1.0f);
       ASSERT_TRUE(std::isfinite(hc.hit.uv.x) && std::isfinite(hc.hit.uv.y));
@@ -275,7 +275,7 @@ TEST(Quadric, RelaxedConeSearchFindsTheAnalyticHitOnAConstantField) {
     const auto r = make_quadric_ray<QuadricDistance::kApproximate>(V, q, V2<float>(0.7f, 0.4f),
                                                                     0.08f);
     const QuadricHit<float> h = quadric_relaxed_cone_search<QuadricDistance::kApproximate>(
-        field, field, cone, V2<float>(0.2f, 0.6f), r, 64, 24, true);
+        field, cone, V2<float>(0.2f, 0.6f), r, 64, 8, 24, 1.0f / 512.0f, true);
     const float k = r.alpha * r.dir.x * r.dir.x + r.beta * r.dir.y * r.dir.y;
     const float t_ref = detail::smallest_positive_root(k, -r.dir.z, field.c, 3.0e38f);
     const bool miss_ref = !(t_ref <= r.t_max);
@@ -292,7 +292,8 @@ TEST(Quadric, RelaxedConeSearchFindsTheAnalyticHitOnAConstantField) {
         V3<F8>(F8(V.x), F8(V.y), F8(V.z)), V2<F8>(F8(q.x), F8(q.y)), V2<F8>(F8(0.7f), F8(0.4f)),
         F8(0.08f));
     const QuadricHit<F8> h8 = quadric_relaxed_cone_search<QuadricDistance::kApproximate>(
-        field, field, cone, V2<F8>(F8(0.2f), F8(0.6f)), r8, 64, 24, true_mask<F8>());
+        field, cone, V2<F8>(F8(0.2f), F8(0.6f)), r8, 64, 8, 24, F8(1.0f / 512.0f),
+        true_mask<F8>());
     EXPECT_EQ(lane(h8.t, 5), h.t);
     EXPECT_EQ(lane(h8.miss, 5), h.miss);
     EXPECT_EQ(lane(h8.hit.steps, 5), h.hit.steps);
@@ -323,7 +324,7 @@ TEST(Quadric, ConservativeConesNeverPassTheFirstHitOnTheDeformedField) {
     const QuadricHit<float> ref =
         quadric_search<QuadricDistance::kApproximate>(Hills(), uv, r, 4096.0f, 30, true);
     const QuadricHit<float> h = quadric_relaxed_cone_search<QuadricDistance::kApproximate>(
-        Hills(), Hills(), Ratio(), uv, r, 256, 30, true);
+        Hills(), Ratio(), uv, r, 256, 8, 30, 1.0f / 512.0f, true);
     ++compared;
     if (h.miss != ref.miss) {
       ++disagreed;  // a ray that grazes the field within the reference's 1 / 4096 sampling
