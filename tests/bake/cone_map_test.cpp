@@ -9,6 +9,7 @@
 
 #include <gtest/gtest.h>
 
+#include "sanitized.h"
 #include "scene/builtin.h"
 
 namespace relief {
@@ -58,16 +59,19 @@ struct Case {
   Texture depth;
 };
 
+// The 64 x 64 maps cost 16 times a 32 x 32 one in the brute force: a sanitizer build
+// (tests/sanitized.h) compares the smaller maps only.
 std::vector<Case> cases() {
   std::vector<Case> c;
+  const bool big = !test::kSanitizedBuild;
   c.push_back({"random32", random_map(32, 32, 1)});
-  c.push_back({"random64", random_map(64, 64, 2)});
-  c.push_back({"bumpy64", bumpy_map(64, 64, 3)});
+  if (big) c.push_back({"random64", random_map(64, 64, 2)});
+  if (big) c.push_back({"bumpy64", bumpy_map(64, 64, 3)});
   c.push_back({"walls32", walls_map(32, 32)});
-  c.push_back({"walls64", walls_map(64, 64)});
+  if (big) c.push_back({"walls64", walls_map(64, 64)});
   c.push_back({"spike32", spike_map(32, 32, 13, 20)});
   c.push_back({"pattern32", make_pattern_depth(32)});
-  c.push_back({"pattern64", make_pattern_depth(64)});
+  if (big) c.push_back({"pattern64", make_pattern_depth(64)});
   c.push_back({"flat32", map_from(32, 32, [](int, int) { return 0.0f; })});
   c.push_back({"deep32", map_from(32, 32, [](int, int) { return 1.0f; })});
   c.push_back({"nonsquare48x20", bumpy_map(48, 20, 4)});
