@@ -1,11 +1,13 @@
 // `relief bake`: normal maps and cone maps from a depth (or height) image.
 //   relief bake DEPTH_IMAGE -o OUT (--normal | --cone conservative|quad|relaxed) [--height]
-//               [--depth-scale s (--normal only)] [--max-ratio R] [--wrap] [--bilinear] [--threads
-//               N]
+//               [--depth-scale s (--normal only)] [--normal-convention gltf|directx] [--max-ratio
+//               R] [--wrap] [--bilinear] [--threads N]
 // Output by extension through scene/image_io.h:
-//   --normal: RGB = n * 0.5 + 0.5 (tangent space, bake/normal_map.h), stored linear: .exr float,
-//             .png / .tif with the bytes of the RGBA8 texture (8-bit PNG readers that keep bytes as
-//             linear, as load_texture does by default, get exactly normal_map_from_depth's texels).
+//   --normal: RGB = n * 0.5 + 0.5 (tangent space, bake/normal_map.h; green toward the image top as
+//             glTF has it, toward the bottom with --normal-convention directx), stored linear: .exr
+//             float, .png / .tif with the bytes of the RGBA8 texture (8-bit PNG readers that keep
+//             bytes as linear, as load_texture does by default, get exactly normal_map_from_depth's
+//             texels).
 //   --cone conservative|relaxed: one channel, .exr/.tif 32-bit float, .png 16-bit (ratio * 65535,
 //             rounded down so a stored cone is never wider than the baked one; needs max-ratio <=
 //             1).
@@ -41,6 +43,8 @@ struct BakeArgs {
   bool height = false;
   float depth_scale = 0.1f;
   bool depth_scale_given = false;  // --depth-scale on the command line
+  std::string normal_convention = "gltf";
+  bool normal_convention_given = false;
   float max_ratio = 1.0f;
   bool wrap = false;
   bool bilinear = false;
@@ -106,6 +110,8 @@ int run_bake(const BakeArgs& a) {
         "ratios of texels to depth 0..1; the material's depth_scale applies at render "
         "time)",
         2);
+  if (a.normal_convention_given && !a.normal)
+    return fail("bake: --normal-convention applies to --normal only", 2);
   if (!(a.depth_scale > 0.0f) || !std::isfinite(a.depth_scale))
     return fail("bake: --depth-scale must be a positive finite number", 2);
   if (!(a.max_ratio > 0.0f) || !std::isfinite(a.max_ratio) || a.max_ratio > 65504.0f)
@@ -154,16 +160,18 @@ int run_bake(const BakeArgs& a) {
 
   if (a.normal) {
     what = "normal map";
+    const NormalConvention convention =
+        a.normal_convention == "directx" ? NormalConvention::kDirectX : NormalConvention::kGltf;
     Image img(w, h);
     if (ext == ".exr") {
-      Texture n = normal_map_from_depth_float(d, a.depth_scale, a.wrap);
+      Texture n = normal_map_from_depth_float(d, a.depth_scale, a.wrap, convention);
       for (int y = 0; y < h; ++y)
         for (int x = 0; x < w; ++x) {
           glm::vec4 v = n.fetch(0, x, y);
           img.at(x, y) = glm::vec4(glm::vec3(v) * 0.5f + 0.5f, 1.0f);
         }
     } else {
-      Texture n = normal_map_from_depth(d, a.depth_scale, a.wrap);
+      Texture n = normal_map_from_depth(d, a.depth_scale, a.wrap, convention);
       const MipLevel& l0 = n.level(0);
       for (int y = 0; y < h; ++y)
         for (int x = 0; x < w; ++x) {
@@ -237,6 +245,11 @@ void register_bake(CLI::App& app, Action& action) {
       sub->add_option("--depth-scale", args->depth_scale,
                       "--normal only: relief depth in uv units (default 0.1); cone maps do not "
                       "depend on it");
+  CLI::Option* convention =
+      sub->add_option("--normal-convention", args->normal_convention,
+                      "--normal only: gltf (default; green = +Y toward the image top, as glTF, "
+                      "Blender and OpenGL tools read) or directx (green flipped)")
+          ->check(CLI::IsMember({"gltf", "directx"}));
   sub->add_option("--max-ratio", args->max_ratio, "Clamp cone ratios (default 1)");
   sub->add_flag("--wrap", args->wrap, "The map tiles (wrap at the borders); default clamp");
   sub->add_flag("--bilinear", args->bilinear,
@@ -250,8 +263,9 @@ void register_bake(CLI::App& app, Action& action) {
   sub->add_option("--size", args->size, "--dual: map size in texels (default 256)");
   sub->add_option("--grow", args->grow,
                   "--dual: the maps' square over the mesh's x-y bounds, times this (>= 1)");
-  sub->callback([&action, args, depth_scale] {
+  sub->callback([&action, args, depth_scale, convention] {
     args->depth_scale_given = depth_scale->count() > 0;
+    args->normal_convention_given = convention->count() > 0;
     action = [args] { return run_bake(*args); };
   });
 }

@@ -4,7 +4,9 @@
 // orthographically along -z with our rasterizer (bake/dual_depth.h) into
 //   PREFIX_front.exr, PREFIX_back.exr             depth layers (one float channel: 0 top, 1
 //                                                 deepest; absent: front 1, back 0)
-//   PREFIX_front_normal.exr, PREFIX_back_normal.exr  outward normals, RGB = n * 0.5 + 0.5, linear
+//   PREFIX_front_normal.exr, PREFIX_back_normal.exr  outward normals, RGB = n * 0.5 + 0.5, linear,
+//                                                 green = -n.y (glTF convention on the quad,
+//                                                 whose v runs along +y: bake/normal_map.h)
 // and prints the depth_scale for relief_dual on a quad over the maps' box. Errors are one line;
 // on failure no output file is left.
 #include <chrono>
@@ -66,8 +68,9 @@ int run_bake_dual(const std::string& mesh_path, const std::string& prefix, int s
       const size_t i = static_cast<size_t>(y) * size + x;
       front.at(x, y) = maps.front[i];
       back.at(x, y) = maps.back[i];
-      front_n.at(x, y) = glm::vec4(maps.front_normal[i] * 0.5f + 0.5f, 1.0f);
-      back_n.at(x, y) = glm::vec4(maps.back_normal[i] * 0.5f + 0.5f, 1.0f);
+      const glm::vec3 flip_green(1.0f, -1.0f, 1.0f);  // toward the image top, -v = -y
+      front_n.at(x, y) = glm::vec4(maps.front_normal[i] * flip_green * 0.5f + 0.5f, 1.0f);
+      back_n.at(x, y) = glm::vec4(maps.back_normal[i] * flip_green * 0.5f + 0.5f, 1.0f);
     }
   // All four are written in full before any is renamed into place; on failure none is, and
   // files already at those names are left as they were.

@@ -43,6 +43,7 @@ struct BenchArgs {
   std::string scene;
   std::string camera;
   bool allow_outside_scene_dir = false;
+  bool strict = false;  // --strict (scene/gltf_extensions.h)
   std::vector<std::string> plugins;
   bool no_progress = false;
   bool no_self_shadow = false;
@@ -158,7 +159,7 @@ int do_target(const BenchArgs& a, const sweep::Options& opt,
   if (opt.lods.size() != 1)
     return fail("--lod: --target-error picks on one LOD mode (level0 or as-rendered), not both", 2);
   const std::string scene_name = a.scene.empty() ? default_scene_source() : a.scene;
-  Result<Scene> scene = load_scene_source(scene_name, a.allow_outside_scene_dir);
+  Result<Scene> scene = load_scene_source(scene_name, a.allow_outside_scene_dir, a.strict);
   if (!scene.ok()) return fail(scene.status().message(), scene.status().exit_code());
   Result<int> camera = resolve_camera(*scene, a.camera);
   if (!camera.ok()) return fail(camera.status().message(), camera.status().exit_code());
@@ -368,6 +369,7 @@ void register_bench(CLI::App& app, Action& action) {
   sub->add_option("--scene", a->scene, "Scene for --target-error (built-in name or .gltf/.glb)");
   sub->add_option("--camera", a->camera, "Camera of --scene (name or index)");
   sub->add_flag("--allow-outside-scene-dir", a->allow_outside_scene_dir, kAllowOutsideSceneDirHelp);
+  sub->add_flag("--strict", a->strict, kStrictHelp);
   sub->add_option("--plugin", a->plugins,
                   "Load an external plugin (.so); swept like the built-ins");
   sub->add_flag("--no-self-shadow", a->no_self_shadow,

@@ -12,15 +12,17 @@ void register_export(CLI::App& app, Action& action) {
   auto scene = std::make_shared<std::string>();
   auto output = std::make_shared<std::string>();
   auto allow_outside = std::make_shared<bool>(false);
+  auto strict = std::make_shared<bool>(false);
   auto* sub = app.add_subcommand(
       "export", "Write a scene as .gltf (with .bin and PNG textures beside it) or .glb");
   sub->add_option("scene", *scene, "Built-in scene name (see `relief scenes`) or .gltf/.glb file")
       ->required();
   sub->add_option("-o,--output", *output, "Output .gltf or .glb")->required();
   sub->add_flag("--allow-outside-scene-dir", *allow_outside, kAllowOutsideSceneDirHelp);
-  sub->callback([&action, scene, output, allow_outside] {
-    action = [scene, output, allow_outside] {
-      Result<Scene> s = load_scene_source(*scene, *allow_outside);
+  sub->add_flag("--strict", *strict, kStrictHelp);
+  sub->callback([&action, scene, output, allow_outside, strict] {
+    action = [scene, output, allow_outside, strict] {
+      Result<Scene> s = load_scene_source(*scene, *allow_outside, *strict);
       if (!s.ok()) return fail(s.status().message(), s.status().exit_code());
       Status w = save_gltf(*s, *output);
       if (!w.ok()) return fail(w.message(), w.exit_code());

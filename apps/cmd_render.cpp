@@ -61,10 +61,12 @@ struct RenderArgs {
   bool log_json = false;
   std::string spp = "1";
   std::string exposure = "0";
+  std::string alpha = "none";  // --alpha (apps/output.h OutputAlpha)
   double fps = 24.0;
   std::string animation;
   bool turntable = false;
   bool allow_outside_scene_dir = false;
+  bool strict = false;
 };
 
 // The derived maps (cone maps) one frame's plan asked for: the counters' growth over make_plan.
@@ -418,6 +420,9 @@ int do_render(const RenderArgs& a) {
                 2);
   Result<float> exposure = parse_exposure(a.exposure);
   if (!exposure.ok()) return fail(exposure.status().message(), 2);
+  OutputAlpha alpha_mode = OutputAlpha::kNone;
+  s = parse_output_alpha(a.alpha, alpha_mode);
+  if (!s.ok()) return fail(s.message(), 2);
   if (!(a.fps > 0.0 && a.fps <= 1000.0))
     return fail("--fps: expected a number of frames per second in (0, 1000]", 2);
   if (a.backend != "cpu" && a.backend != "gl")
@@ -453,7 +458,9 @@ int do_render(const RenderArgs& a) {
     if (!ls.ok()) return fail(ls.message(), ls.exit_code());
   }
 
-  Result<Scene> scene = load_scene_source(scene_name, a.allow_outside_scene_dir);
+  std::vector<GltfIgnored> ignored;
+  Result<Scene> scene =
+      load_scene_source(scene_name, a.allow_outside_scene_dir, a.strict, &ignored);
   if (!scene.ok()) return fail(scene.status().message(), scene.status().exit_code());
   Result<int> camera = resolve_camera(*scene, a.camera);
   if (!camera.ok()) return fail(camera.status().message(), camera.status().exit_code());
@@ -526,7 +533,11 @@ int do_render(const RenderArgs& a) {
     Result<Plan> plan = make_plan(*scene, opt);
     const BakeStats bake = BakeStats::since(counters);
     if (!plan.ok()) return frame_failed(plan.status());
-    if (a.explain && fi == 0) std::fprintf(human, "%s", plan->explain().c_str());
+    if (a.explain && fi == 0) {
+      std::fprintf(human, "%s", plan->explain().c_str());
+      std::fprintf(human, "%s",
+                   explain_ignored(*scene, ignored, is_scene_path(scene_name)).c_str());
+    }
     Result<RenderResult> r = (*backend)->render(*scene, *plan, opt);
     if (!r.ok()) return frame_failed(r.status());
     const auto t_out = std::chrono::steady_clock::now();
@@ -534,6 +545,7 @@ int do_render(const RenderArgs& a) {
     const std::string& image_file = files[0];
     Image color = box_downsample(r->framebuffer.color, k);
     if (*exposure != 0.0f) apply_exposure(color, exposure_scale);
+    apply_output_alpha(color, alpha_mode);
     // Every output of the frame is written in full to its temporary, then all are renamed.
     // The image is staged (and renamed) last, so a non-empty image means a complete frame.
     StagedFiles out;
@@ -579,7 +591,8 @@ int do_render(const RenderArgs& a) {
       if (!s.ok()) return frame_failed(s);
     }
     // The image last: once it is there (not empty), every output of the frame is.
-    s = stage(image_file, encode_image(image_file, color));
+    s = stage(image_file, encode_image(image_file, color, output_channels(alpha_mode),
+                                       alpha_mode == OutputAlpha::kPremultiplied));
     if (!s.ok()) return frame_failed(s);
     claim.release();  // the outputs are renamed into place next, the image over the claim
     s = out.commit();
@@ -643,6 +656,7 @@ void register_render(CLI::App& app, Action& action) {
                   "Output image (.png 8-bit sRGB, .exr float, .tif); required");
   sub->add_option("--size", a->size, "Image size WxH")->capture_default_str();
   sub->add_flag("--allow-outside-scene-dir", a->allow_outside_scene_dir, kAllowOutsideSceneDirHelp);
+  sub->add_flag("--strict", a->strict, kStrictHelp);
   sub->add_option("--threads", a->threads, "Worker threads, 0 = all cores")->capture_default_str();
   sub->add_option("--tile-size", a->tile_size, "Tile size in pixels (even, 8..512)")
       ->capture_default_str();
@@ -693,6 +707,9 @@ void register_render(CLI::App& app, Action& action) {
       ->capture_default_str();
   sub->add_option("--exposure", a->exposure,
                   "Exposure in stops: linear colour times 2^EV before the output transform")
+      ->capture_default_str();
+  sub->add_option("--alpha", a->alpha,
+                  "Output alpha: none (RGB), straight or premultiplied (RGBA; docs/aovs.md)")
       ->capture_default_str();
   sub->add_option("--fps", a->fps, "Frames per second of the animation clock (frame f at f/fps s)")
       ->capture_default_str();

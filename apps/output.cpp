@@ -2,6 +2,7 @@
 
 #include <sys/stat.h>
 
+#include <algorithm>
 #include <regex>
 
 #include "rasterizer/output_file.h"
@@ -27,6 +28,31 @@ Status OutputCheck::add(const std::string& option, const std::string& path, Kind
     return Status::usage(option + ": '" + printable(path) + "' is the same file as " +
                          it->second.first + " '" + printable(it->second.second) + "'");
   return {};
+}
+
+Status parse_output_alpha(const std::string& text, OutputAlpha& mode) {
+  if (text == "none")
+    mode = OutputAlpha::kNone;
+  else if (text == "straight")
+    mode = OutputAlpha::kStraight;
+  else if (text == "premultiplied")
+    mode = OutputAlpha::kPremultiplied;
+  else
+    return Status::usage("--alpha: expected none, straight or premultiplied, got '" +
+                         printable(text) + "'");
+  return {};
+}
+
+void apply_output_alpha(Image& image, OutputAlpha mode) {
+  for (glm::vec4& p : image.pixels) {
+    const float a = p.a >= 0.0f ? std::min(p.a, 1.0f) : 0.0f;  // NaN: 0
+    if (mode == OutputAlpha::kStraight) {
+      const float inv = a > 0.0f ? 1.0f / a : 0.0f;
+      p = glm::vec4(glm::vec3(p) * inv, a);
+    } else {
+      p.a = mode == OutputAlpha::kNone ? 1.0f : a;
+    }
+  }
 }
 
 Status parse_size(const std::string& text, int& width, int& height) {

@@ -4,6 +4,7 @@
 #include <map>
 #include <string>
 
+#include "rasterizer/image.h"
 #include "rasterizer/status.h"
 
 namespace relief::cli {
@@ -25,6 +26,20 @@ class OutputCheck {
  private:
   std::map<std::string, std::pair<std::string, std::string>> seen_;  // identity -> option, path
 };
+
+// `relief render --alpha`: what the image's alpha channel holds (docs/aovs.md, "Output alpha").
+// The frame holds premultiplied linear colour; kNone writes RGB (the colour over black where the
+// background is not opaque), kStraight RGBA with colour divided by alpha (0 where alpha is 0),
+// kPremultiplied RGBA as held.
+enum class OutputAlpha { kNone, kStraight, kPremultiplied };
+// "none" | "straight" | "premultiplied"; else a usage error naming --alpha.
+Status parse_output_alpha(const std::string& text, OutputAlpha& mode);
+// The frame's colour in the form `mode` writes (alpha clamped to [0, 1]).
+void apply_output_alpha(Image& image, OutputAlpha mode);
+// The channel count `mode` writes: 3 for kNone, else 4.
+inline int output_channels(OutputAlpha mode) {
+  return mode == OutputAlpha::kNone ? 3 : 4;
+}
 
 // "WxH" -> width and height, each in 1..kMaxTargetSize, at most kMaxTargetPixels in all.
 Status parse_size(const std::string& text, int& width, int& height);

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cctype>
 #include <cerrno>
+#include <cstdio>
 
 #include "gl/gl_backend.h"
 #include "plugins/registry.h"
@@ -66,12 +67,44 @@ Status check_scene_source(const std::string& name) {
 }
 
 Result<Scene> load_scene_source(const std::string& name, bool allow_outside_scene_dir) {
+  return load_scene_source(name, allow_outside_scene_dir, false, nullptr);
+}
+
+Result<Scene> load_scene_source(const std::string& name, bool allow_outside_scene_dir, bool strict,
+                                std::vector<GltfIgnored>* ignored) {
   RELIEF_RETURN_IF_ERROR(check_scene_source(name));
+  if (ignored) ignored->clear();
   GltfLoadOptions options;
   options.allow_outside_scene_dir = allow_outside_scene_dir;
+  options.strict = strict;
+  options.ignored = ignored;
   const std::string ext = extension_of(name);
-  if (is_scene_path(name) && (ext == ".gltf" || ext == ".glb")) return load_gltf(name, options);
+  if (is_scene_path(name) && (ext == ".gltf" || ext == ".glb")) {
+    Result<Scene> s = load_gltf(name, options);
+    if (s.ok() && ignored)  // the lines load_gltf prints when it keeps nothing
+      for (const GltfIgnored& g : *ignored)
+        if (g.warn)
+          std::fprintf(stderr, "relief: warning: %s\n", ignored_line(printable(name), g).c_str());
+    return s;
+  }
   return make_builtin_scene(name);
+}
+
+std::string explain_ignored(const Scene& scene, const std::vector<GltfIgnored>& ignored,
+                            bool from_file) {
+  if (!from_file) return "";
+  std::string out = "ignored from the file (docs/scene-format.md, \"Support table\"):\n";
+  for (size_t m = 0; m < scene.materials.size(); ++m) {
+    std::string list;
+    for (const GltfIgnored& g : ignored)
+      if (g.material == static_cast<int>(m))
+        list += (list.empty() ? "" : "; ") + g.feature + " (" + g.pointer + ")";
+    out += "  material " + std::to_string(m) + " '" + scene.materials[m].name +
+           "': " + (list.empty() ? "nothing" : list) + "\n";
+  }
+  for (const GltfIgnored& g : ignored)
+    if (g.material < 0 && g.warn) out += "  " + g.pointer + ": " + g.what + "\n";
+  return out;
 }
 
 Result<int> resolve_camera(const Scene& scene, const std::string& name_or_index) {

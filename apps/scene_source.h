@@ -3,9 +3,11 @@
 
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "rasterizer/status.h"
 #include "render/render.h"
+#include "scene/gltf_extensions.h"
 #include "scene/scene.h"
 
 namespace relief::cli {
@@ -25,6 +27,18 @@ Status check_scene_source(const std::string& name);
 // allow_outside_scene_dir: `--allow-outside-scene-dir` (the file's URIs may leave its folder).
 Result<Scene> load_scene_source(const std::string& name_or_path,
                                 bool allow_outside_scene_dir = false);
+// As above, with `--strict` (what relief ignores in a glTF file is an error, not a warning line:
+// scene/gltf_extensions.h) and, when `ignored` is set, the findings kept there for --explain (the
+// warning lines are printed all the same).
+Result<Scene> load_scene_source(const std::string& name_or_path, bool allow_outside_scene_dir,
+                                bool strict, std::vector<GltfIgnored>* ignored = nullptr);
+// The help text of `--strict` (render, export, bench).
+inline constexpr const char* kStrictHelp =
+    "Refuse a glTF file that uses anything relief ignores (extensions, material properties, "
+    "sampler settings, attributes) instead of warning";
+// `--explain`'s list of what each material of a loaded file ignores (empty for a built-in).
+std::string explain_ignored(const Scene& scene, const std::vector<GltfIgnored>& ignored,
+                            bool from_file);
 // The help text of `--allow-outside-scene-dir` (render, export, bench, bake --dual).
 inline constexpr const char* kAllowOutsideSceneDirHelp =
     "Let a glTF file's buffer and image URIs lead outside its folder (.., symlinks)";

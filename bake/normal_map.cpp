@@ -11,7 +11,9 @@ namespace relief {
 namespace {
 
 // Unit normals (x, y, z) per texel of level 0, row-major.
-std::vector<float> depth_normals(const Texture& depth, float depth_scale, bool wrap) {
+std::vector<float> depth_normals(const Texture& depth, float depth_scale, bool wrap,
+                                 NormalConvention convention) {
+  const float green = convention == NormalConvention::kGltf ? -1.0f : 1.0f;  // n_v to green
   CHECK(!depth.empty());
   const int w = depth.width(0);
   const int h = depth.height(0);
@@ -52,7 +54,7 @@ std::vector<float> depth_normals(const Texture& depth, float depth_scale, bool w
       const float inv = 1.0f / std::sqrt(nx * nx + ny * ny + nz * nz);
       float* o = &out[(static_cast<size_t>(y) * w + x) * 3];
       o[0] = nx * inv;
-      o[1] = ny * inv;
+      o[1] = green * ny * inv;
       o[2] = nz * inv;
     }
   }
@@ -75,12 +77,15 @@ Texture pack(const Texture& depth, const std::vector<float>& n, TexFormat format
 
 }  // namespace
 
-Texture normal_map_from_depth(const Texture& depth, float depth_scale, bool wrap) {
-  return pack(depth, depth_normals(depth, depth_scale, wrap), TexFormat::kRGBA8, true);
+Texture normal_map_from_depth(const Texture& depth, float depth_scale, bool wrap,
+                              NormalConvention convention) {
+  return pack(depth, depth_normals(depth, depth_scale, wrap, convention), TexFormat::kRGBA8, true);
 }
 
-Texture normal_map_from_depth_float(const Texture& depth, float depth_scale, bool wrap) {
-  return pack(depth, depth_normals(depth, depth_scale, wrap), TexFormat::kRGBA16F, false);
+Texture normal_map_from_depth_float(const Texture& depth, float depth_scale, bool wrap,
+                                    NormalConvention convention) {
+  return pack(depth, depth_normals(depth, depth_scale, wrap, convention), TexFormat::kRGBA16F,
+              false);
 }
 
 }  // namespace relief

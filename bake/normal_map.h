@@ -10,18 +10,27 @@
 // ((d[i+1] - d[i-1]) * w / 2). At a border, `wrap` takes the neighbour from the opposite side
 // (a tiling map); otherwise the missing neighbour is clamped and the difference is one-sided
 // (divided by the real distance, one texel). A map one texel wide has zero slope along that axis.
+//
+// Stored components (NormalConvention): kGltf, the glTF 2.0 convention every normal map relief
+// reads follows (plugins/surface.h normal_from_texel): red = x along +u, green = y toward the
+// image top (-v; texel row 0 is the top row, at v = 0), blue = z; so green = -n_v. kDirectX stores
+// green = +n_v (green toward the image bottom), for tools that expect that ("DirectX" or "Y-").
 #pragma once
 
 #include "rasterizer/texture.h"
 
 namespace relief {
 
+enum class NormalConvention { kGltf, kDirectX };
+
 // RGBA8 linear: rgb = n * 0.5 + 0.5, alpha = 1, with a full mip chain (average). The depth is read
 // from the first channel of level 0 (any format). Precondition: depth not empty.
-Texture normal_map_from_depth(const Texture& depth, float depth_scale, bool wrap);
+Texture normal_map_from_depth(const Texture& depth, float depth_scale, bool wrap,
+                              NormalConvention convention = NormalConvention::kGltf);
 
 // The same normals unquantised: RGBA16F with rgb = n (components in [-1, 1]), alpha = 1, full mip
 // chain (average; averaged normals are not renormalised).
-Texture normal_map_from_depth_float(const Texture& depth, float depth_scale, bool wrap);
+Texture normal_map_from_depth_float(const Texture& depth, float depth_scale, bool wrap,
+                                    NormalConvention convention = NormalConvention::kGltf);
 
 }  // namespace relief

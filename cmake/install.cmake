@@ -73,7 +73,7 @@ set(CPACK_DEBIAN_BIN_PACKAGE_SHLIBDEPS ON)  # Depends from dpkg-shlibdeps on the
 set(CPACK_DEBIAN_DEV_PACKAGE_NAME relief-dev)
 set(CPACK_DEBIAN_DEV_PACKAGE_SECTION libdevel)
 # The static libraries link these privately; reliefConfig.cmake finds them again.
-set(relief_dev_depends "libglm-dev, libopenimageio-dev, libtinygltf-dev, nlohmann-json3-dev, pkg-config")
+set(relief_dev_depends "libglm-dev, libopenimageio-dev, libtinygltf-dev, nlohmann-json3-dev, libmeshoptimizer-dev, libdraco-dev, pkg-config")
 if(RELIEF_GL)
   string(APPEND relief_dev_depends ", libepoxy-dev, libegl-dev")
   # libepoxy opens libEGL at run time, so dpkg-shlibdeps cannot see the GL backend's drivers.

@@ -112,6 +112,7 @@ struct Locations {
     GLint type = -1, position = -1, direction = -1, color = -1, range = -1, inner = -1, outer = -1;
   } lights[kMaxLights];
   GLint params = -1, base_color = -1, specular = -1, shininess = -1, has_texture = -1;
+  GLint alpha_mode = -1, alpha_cutoff = -1;
   GLint texture_sampler = -1;  // cone.glsl: (filter, wrap_u, wrap_v) per slot, for texelFetch
   GLint tri_base = -1;         // common.glsl: the draw's first triangle in TrianglePlanesBuffer
 };
@@ -138,6 +139,8 @@ Locations find_locations(GLuint p) {
   l.base_color = loc("material.base_color");
   l.specular = loc("material.specular");
   l.shininess = loc("material.shininess");
+  l.alpha_mode = loc("material.alpha_mode");
+  l.alpha_cutoff = loc("material.alpha_cutoff");
   l.has_texture = loc("has_texture[0]");
   l.texture_sampler = loc("texture_sampler[0]");
   l.tri_base = loc("tri_base");
@@ -204,12 +207,19 @@ struct DrawRange {
   GLint first_triangle;  // index of its first triangle in the TrianglePlanesBuffer
 };
 
-// common.glsl's TrianglePlanesBuffer: per triangle a header (first part's offset, part count, two
-// unused; ints stored bit for bit), then the parts: (x0, y0) as ints, the corners (x, y) x 3 and
-// the CPU rasterizer's planes (depth, 1/w, the 16 varyings times 1/w), three floats each.
+// common.glsl's TrianglePlanesBuffer: per triangle a header (first part's offset, part count,
+// varying count, unused; ints stored bit for bit), then the parts: (x0, y0) as ints, the corners
+// (x, y) x 3 and the CPU rasterizer's planes (depth, 1/w, the draw's varyings times 1/w: 16, or
+// kCountExtended with COLOR_0 or TEXCOORD_1), three floats each.
 constexpr GLuint kTrianglePlanesBinding = 3;
 constexpr int kTriangleHeader = 4;
-constexpr int kPartFloats = 8 + (2 + varying::kCount) * 3;
+// The vertex stream: every draw's varyings padded to kGlVaryings floats (relief.vert's six vec4;
+// colour 1 and uv1 0 where the mesh has none).
+constexpr int kGlVaryings = 24;
+static_assert(varying::kCountExtended <= kGlVaryings);
+// Texture units of common.glsl's emissive_texture and occlusion_texture.
+constexpr GLuint kEmissiveUnit = 16;
+constexpr GLuint kOcclusionUnit = 17;
 
 float int_bits(int32_t v) {
   float f;
@@ -220,6 +230,8 @@ float int_bits(int32_t v) {
 // The texture and sampler objects per material and slot, and the exact twin's max-mip buffer.
 struct DrawTextures {
   std::vector<std::array<GLuint, kMaxTextureSlots>> tex, samplers;
+  // per material: emissive texture and sampler, occlusion texture and sampler
+  std::vector<std::array<GLuint, 4>> extra;
   std::vector<GLuint> fields;
 };
 
@@ -273,9 +285,10 @@ class GlBackend final : public Backend {
 
  private:
   // The program of a plugin's twin ("depth_only" for casters without a shadow-pass variant).
+  // alpha_test: a MASK material's, which discards, so it cannot take early fragment tests.
   Result<const Program*> program_for(const std::string& plugin, EffectMask effects,
                                      DepthOutput depth_output, bool aovs, bool count,
-                                     double* compile_ms);
+                                     double* compile_ms, bool alpha_test = false);
   // Renders the faces of one shadow pass into the layers of its depth texture.
   Status shadow_pass(const Scene& scene, const Plan& plan, const PassPlan& pass,
                      const std::vector<const Program*>& programs, const DrawTextures& textures,
@@ -343,11 +356,11 @@ GlBackend::~GlBackend() {
 
 Result<const Program*> GlBackend::program_for(const std::string& plugin, EffectMask effects,
                                               DepthOutput depth_output, bool aovs, bool count,
-                                              double* compile_ms) {
+                                              double* compile_ms, bool alpha_test) {
   const bool writes_depth = depth_output != DepthOutput::kNone;
   const std::string key = plugin + "/" + std::to_string(effects) + "/" +
                           std::to_string(int(depth_output)) + (aovs ? "a" : "") +
-                          (count ? "c" : "");
+                          (count ? "c" : "") + (alpha_test ? "m" : "");
   if (auto it = programs_.find(key); it != programs_.end()) return &it->second;
   const std::string frag = gl_twin_file(plugin);
   if (!gl::shader_file_exists(frag))
@@ -364,6 +377,7 @@ Result<const Program*> GlBackend::program_for(const std::string& plugin, EffectM
       flag("RELIEF_AOVS", aovs),
       flag("RELIEF_DEPTH_FARTHER", depth_output == DepthOutput::kFarther),
       flag("RELIEF_COUNT", count),
+      flag("RELIEF_ALPHA_TEST", alpha_test),
   };
   const auto t0 = Clock::now();
   Result<unsigned> id = gl::build_program("relief.vert", frag, defines);
@@ -584,6 +598,8 @@ void set_material_uniforms(GLuint p, const Locations& l, const MaterialUniforms&
   glProgramUniform4fv(p, l.base_color, 1, &m.base_color[0]);
   glProgramUniform1f(p, l.specular, m.specular);
   glProgramUniform1f(p, l.shininess, m.shininess);
+  glProgramUniform1i(p, l.alpha_mode, static_cast<GLint>(m.alpha_mode));
+  glProgramUniform1f(p, l.alpha_cutoff, m.alpha_cutoff);
   GLint has[kMaxTextureSlots];
   for (int i = 0; i < kMaxTextureSlots; ++i) has[i] = m.textures[i] != nullptr ? 1 : 0;
   glProgramUniform1iv(p, l.has_texture, kMaxTextureSlots, has);
@@ -594,6 +610,28 @@ void set_material_uniforms(GLuint p, const Locations& l, const MaterialUniforms&
     samplers[3 * i + 2] = static_cast<GLint>(m.samplers[i].wrap_v);
   }
   if (l.texture_sampler >= 0) glProgramUniform3iv(p, l.texture_sampler, kMaxTextureSlots, samplers);
+  // glTF material terms (common.glsl finish_surface, sample_slot); unused ones have no location.
+  auto set_map = [&](const std::string& name, const UvMap& u) {
+    glProgramUniform2fv(p, glGetUniformLocation(p, (name + ".col0").c_str()), 1, &u.col0[0]);
+    glProgramUniform2fv(p, glGetUniformLocation(p, (name + ".col1").c_str()), 1, &u.col1[0]);
+    glProgramUniform2fv(p, glGetUniformLocation(p, (name + ".offset").c_str()), 1, &u.offset[0]);
+    glProgramUniform1i(p, glGetUniformLocation(p, (name + ".set").c_str()), u.set);
+    glProgramUniform1i(p, glGetUniformLocation(p, (name + ".identity").c_str()),
+                       u.identity ? 1 : 0);
+  };
+  for (int i = 0; i < kMaxTextureSlots; ++i)
+    set_map("material.uv_maps[" + std::to_string(i) + "]", m.uv_maps[i]);
+  set_map("material.emissive_uv", m.emissive_uv);
+  set_map("material.occlusion_uv", m.occlusion_uv);
+  glProgramUniform3fv(p, glGetUniformLocation(p, "material.emissive"), 1, &m.emissive[0]);
+  glProgramUniform1i(p, glGetUniformLocation(p, "material.has_emissive_texture"),
+                     m.emissive_texture ? 1 : 0);
+  glProgramUniform1i(p, glGetUniformLocation(p, "material.has_occlusion_texture"),
+                     m.occlusion_texture ? 1 : 0);
+  glProgramUniform1f(p, glGetUniformLocation(p, "material.occlusion_strength"),
+                     m.occlusion_strength);
+  glProgramUniform1f(p, glGetUniformLocation(p, "material.normal_scale"), m.normal_scale);
+  glProgramUniform1i(p, glGetUniformLocation(p, "material.unlit"), m.unlit ? 1 : 0);
 }
 
 std::vector<DrawRange> GlBackend::upload_draws(const std::vector<PreparedDraw>& prepared,
@@ -610,7 +648,7 @@ std::vector<DrawRange> GlBackend::upload_draws(const std::vector<PreparedDraw>& 
   std::vector<uint32_t> idx;
   CpuTrianglePlanes planes;
   clip.reserve(nv);
-  vary.reserve(nv * varying::kCount);
+  vary.reserve(nv * kGlVaryings);
   idx.reserve(ni + 3);
   for (const PreparedDraw& d : prepared) {
     if (!d.indices || d.indices->empty() || !programs[d.material]) continue;
@@ -626,12 +664,13 @@ std::vector<DrawRange> GlBackend::upload_draws(const std::vector<PreparedDraw>& 
       tri.resize(base + kTriangleHeader, 0.0f);
       if (std::max({ix[i], ix[i + 1], ix[i + 2]}) >= d.clip.size()) continue;
       const glm::vec4 c[3] = {d.clip[ix[i]], d.clip[ix[i + 1]], d.clip[ix[i + 2]]};
-      const float* v[3] = {&d.varyings[ix[i] * varying::kCount],
-                           &d.varyings[ix[i + 1] * varying::kCount],
-                           &d.varyings[ix[i + 2] * varying::kCount]};
-      if (!cpu_triangle_planes(c, v, varying::kCount, width, height, planes)) continue;
+      const size_t dnv = static_cast<size_t>(d.num_varyings);
+      const float* v[3] = {&d.varyings[ix[i] * dnv], &d.varyings[ix[i + 1] * dnv],
+                           &d.varyings[ix[i + 2] * dnv]};
+      if (!cpu_triangle_planes(c, v, d.num_varyings, width, height, planes)) continue;
       tri[base] = int_bits(static_cast<int32_t>(parts.size()));  // rebased below
       tri[base + 1] = int_bits(static_cast<int32_t>(planes.parts.size()));
+      tri[base + 2] = int_bits(d.num_varyings);
       for (const CpuTrianglePlanes::Part& part : planes.parts) {
         parts.push_back(int_bits(part.x0));
         parts.push_back(int_bits(part.y0));
@@ -640,13 +679,18 @@ std::vector<DrawRange> GlBackend::upload_draws(const std::vector<PreparedDraw>& 
       }
     }
     clip.insert(clip.end(), d.clip.begin(), d.clip.end());
-    vary.insert(vary.end(), d.varyings.begin(), d.varyings.end());
+    for (size_t k = 0; k < d.clip.size(); ++k) {
+      const float* src = &d.varyings[k * static_cast<size_t>(d.num_varyings)];
+      vary.insert(vary.end(), src, src + d.num_varyings);
+      for (int j = d.num_varyings; j < kGlVaryings; ++j)
+        vary.push_back(j < varying::kUv1 ? 1.0f : 0.0f);
+    }
     idx.insert(idx.end(), d.indices->begin(), d.indices->end());
   }
   *warmup_offset = idx.size();  // one degenerate triangle (see render)
   idx.insert(idx.end(), {0u, 0u, 0u});
   if (clip.empty()) clip.emplace_back(0.0f);  // the warm-up triangle reads vertex 0
-  vary.resize(std::max(vary.size(), static_cast<size_t>(varying::kCount)));
+  vary.resize(std::max(vary.size(), static_cast<size_t>(kGlVaryings)));
   glNamedBufferData(vbo_clip_, static_cast<GLsizeiptr>(clip.size() * sizeof(glm::vec4)),
                     clip.data(), GL_STREAM_DRAW);
   glNamedBufferData(vbo_vary_, static_cast<GLsizeiptr>(vary.size() * sizeof(float)), vary.data(),
@@ -687,6 +731,10 @@ void GlBackend::bind_material(const Program& p, int mi, const Plan& plan,
     glBindTextureUnit(s, textures.tex[mi][s]);
     glBindSampler(s, textures.samplers[mi][s]);
   }
+  glBindTextureUnit(kEmissiveUnit, textures.extra[mi][0]);
+  glBindSampler(kEmissiveUnit, textures.extra[mi][1]);
+  glBindTextureUnit(kOcclusionUnit, textures.extra[mi][2]);
+  glBindSampler(kOcclusionUnit, textures.extra[mi][3]);
   if (p.height_field)
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kHeightFieldBinding, textures.fields[mi]);
   if (m.double_sided)
@@ -860,10 +908,10 @@ Result<RenderResult> GlBackend::render(const Scene& scene, const Plan& plan,
   std::vector<const Program*> programs(nm, nullptr), shadow_programs(nm, nullptr);
   std::vector<const Program*> fresh;  // built in this frame
   auto get = [&](const std::string& plugin, EffectMask effects, DepthOutput depth, bool with_aovs,
-                 const Program** out) -> Status {
+                 const Program** out, bool alpha_test = false) -> Status {
     const size_t before = programs_.size();
     Result<const Program*> p =
-        program_for(plugin, effects, depth, with_aovs, count, &result.compile_ms);
+        program_for(plugin, effects, depth, with_aovs, count, &result.compile_ms, alpha_test);
     if (!p.ok()) return p.status();
     *out = *p;
     if (programs_.size() != before) fresh.push_back(*p);
@@ -872,7 +920,7 @@ Result<RenderResult> GlBackend::render(const Scene& scene, const Plan& plan,
   const bool has_shadow_pass =
       std::any_of(plan.passes.begin(), plan.passes.end(),
                   [](const PassPlan& p) { return p.kind == PassPlan::Kind::kShadow; });
-  const std::vector<PreparedDraw> prepared = prepare_draws(scene, plan.frame.view_proj);
+  std::vector<PreparedDraw> prepared = prepare_draws(scene, plan.frame.view_proj);
   for (const PreparedDraw& d : prepared) {
     if (d.material < 0 || d.material >= static_cast<int>(nm))
       return Status::error("gl: instance " + std::to_string(d.instance) + " has no material");
@@ -880,15 +928,19 @@ Result<RenderResult> GlBackend::render(const Scene& scene, const Plan& plan,
     const BoundMaterial& m = plan.materials[d.material];
     if (!m.plugin) return Status::error("gl: material " + std::to_string(d.material) + " unbound");
     RELIEF_RETURN_IF_ERROR(get(m.plugin->name, m.effects, m.plugin->depth_output(m.effects), aovs,
-                               &programs[d.material]));
+                               &programs[d.material], m.uniforms.alpha_mode == AlphaMode::kMask));
   }
   for (size_t mi = 0; mi < nm && has_shadow_pass; ++mi) {
     const BoundMaterial& m = plan.materials[mi];
     if (!m.plugin || !m.shadow_caster) continue;
+    const bool mask = m.uniforms.alpha_mode == AlphaMode::kMask;
     if (m.shadow_effects)
       RELIEF_RETURN_IF_ERROR(get(m.plugin->name, m.shadow_effects,
                                  m.plugin->depth_output(m.shadow_effects), false,
-                                 &shadow_programs[mi]));
+                                 &shadow_programs[mi], mask));
+    else if (mask)  // cut out: the twin's own discard (the CPU's MaskCasterKernel)
+      RELIEF_RETURN_IF_ERROR(
+          get(m.plugin->name, 0, m.plugin->depth_output(0), false, &shadow_programs[mi], true));
     else
       RELIEF_RETURN_IF_ERROR(get("depth_only", 0, DepthOutput::kNone, false, &shadow_programs[mi]));
   }
@@ -909,9 +961,18 @@ Result<RenderResult> GlBackend::render(const Scene& scene, const Plan& plan,
   textures.tex.resize(nm);
   textures.samplers.resize(nm);
   textures.fields.assign(nm, 0);
+  textures.extra.assign(nm, {0, 0, 0, 0});
   for (size_t mi = 0; mi < nm; ++mi) {
     if (!programs[mi] && !shadow_programs[mi]) continue;
     const BoundMaterial& m = plan.materials[mi];
+    if (const Texture* t = m.uniforms.emissive_texture; t && !t->empty()) {
+      textures.extra[mi][0] = texture_for(t, m, Upload::kNative, transient);
+      textures.extra[mi][1] = sampler_for(m.uniforms.emissive_sampler);
+    }
+    if (const Texture* t = m.uniforms.occlusion_texture; t && !t->empty()) {
+      textures.extra[mi][2] = texture_for(t, m, Upload::kNative, transient);
+      textures.extra[mi][3] = sampler_for(m.uniforms.occlusion_sampler);
+    }
     for (int s = 0; s < kMaxTextureSlots; ++s) {
       const Texture* t = m.uniforms.textures[s];
       textures.tex[mi][s] =
@@ -938,11 +999,11 @@ Result<RenderResult> GlBackend::render(const Scene& scene, const Plan& plan,
     vbo_vary_ = bufs[1];
     ebo_ = bufs[2];
     glVertexArrayVertexBuffer(vao_, 0, vbo_clip_, 0, sizeof(glm::vec4));
-    glVertexArrayVertexBuffer(vao_, 1, vbo_vary_, 0, sizeof(float) * varying::kCount);
+    glVertexArrayVertexBuffer(vao_, 1, vbo_vary_, 0, sizeof(float) * kGlVaryings);
     glEnableVertexArrayAttrib(vao_, 0);
     glVertexArrayAttribFormat(vao_, 0, 4, GL_FLOAT, GL_FALSE, 0);
     glVertexArrayAttribBinding(vao_, 0, 0);
-    for (int a = 0; a < varying::kCount / 4; ++a) {
+    for (int a = 0; a < kGlVaryings / 4; ++a) {
       glEnableVertexArrayAttrib(vao_, 1 + a);
       glVertexArrayAttribFormat(vao_, 1 + a, 4, GL_FLOAT, GL_FALSE, sizeof(float) * 4 * a);
       glVertexArrayAttribBinding(vao_, 1 + a, 1);
@@ -998,18 +1059,39 @@ Result<RenderResult> GlBackend::render(const Scene& scene, const Plan& plan,
   frame.width = w;
   frame.height = h;
   size_t warmup_offset = 0;
-  const std::vector<DrawRange> ranges = upload_draws(prepared, programs, w, h, &warmup_offset);
+  // Plan::draw_order: opaque and MASK draws, then BLEND ones back to front (as the CPU).
+  std::vector<PreparedDraw> ordered;
+  ordered.reserve(prepared.size());
+  for (int i : main_draw_order(plan, prepared.size())) ordered.push_back(std::move(prepared[i]));
+  const std::vector<DrawRange> ranges = upload_draws(ordered, programs, w, h, &warmup_offset);
   glBindFramebuffer(GL_FRAMEBUFFER, fbo_);
   glViewport(0, 0, w, h);
   glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
   BindCache cache;
-  auto bind = [&](const Program& p, int mi) { bind_material(p, mi, plan, frame, textures, cache); };
+  // BLEND draws: src-over of the straight-alpha colour onto the premultiplied target (the CPU's
+  // DrawCall::blend), depth tested but not written, no AOVs.
+  glBlendFuncSeparate(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA, GL_ONE, GL_ONE_MINUS_SRC_ALPHA);
+  auto bind = [&](const Program& p, int mi) {
+    bind_material(p, mi, plan, frame, textures, cache);
+    const bool blend = plan.materials[mi].uniforms.alpha_mode == AlphaMode::kBlend;
+    if (blend) {
+      glEnablei(GL_BLEND, 0);
+    } else {
+      glDisablei(GL_BLEND, 0);
+    }
+    glDepthMask(blend ? GL_FALSE : GL_TRUE);
+    if (aovs)
+      for (GLuint a = 1; a <= 2; ++a) glColorMaski(a, !blend, !blend, !blend, !blend);
+  };
   warm_up(fresh, programs, warmup_offset, bind, &result.compile_ms);
   if (count) reset_counters();
   const auto t_pass = Clock::now();
   // Begun after binding the target: llvmpipe attributes a query to the framebuffer's scene.
   glBeginQuery(GL_TIME_ELAPSED, query_);
-  const glm::vec4 bg = scene.background;
+  // premultiplied, as the CPU's; warm-up draws may have left a BLEND draw's state
+  const glm::vec4 bg = clear_color(scene);
+  glDepthMask(GL_TRUE);
+  glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
   glClearNamedFramebufferfv(fbo_, GL_COLOR, 0, &bg[0]);
   if (aovs) {
     const float zero[4] = {0, 0, 0, 0};
@@ -1019,6 +1101,9 @@ Result<RenderResult> GlBackend::render(const Scene& scene, const Plan& plan,
   const float depth_clear = 0.0f;
   glClearNamedFramebufferfv(fbo_, GL_DEPTH, 0, &depth_clear);
   draw_ranges(ranges, programs, bind);
+  glDisable(GL_BLEND);
+  glDepthMask(GL_TRUE);
+  glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
   PassStats main;
   main.name = "main";
   end_pass(main, t_pass);

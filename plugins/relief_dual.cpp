@@ -80,6 +80,9 @@ struct DualKernel {
     const V3<F> pos = record_hit(in, view, depth_scale, hit, o);
     if constexpr (kDepth) o.depth = corrected_depth(ctx, in, pos);
     if constexpr (kShadowPass) {
+      // MASK casters cut their shadow where the base colour at the hit is below the cutoff
+      if (m.alpha_mode == AlphaMode::kMask)
+        o.alpha = sample_alpha(m, kBaseColorSlot, hit.uv, in, o.fetches);
       return o;
     } else {
       V3<F> n = sample_normal_map(m, kNormalSlot, tf, hit.uv, in, F(1.0f), o.fetches);
@@ -95,7 +98,7 @@ struct DualKernel {
         o.fetches +=
             F(read_cost<TextureDepth>() + read_cost<Back>()) + select(on_back, F(1.0f), F(0.0f));
       }
-      const V3<F> albedo = sample_albedo(m, kBaseColorSlot, hit.uv, in, o.fetches);
+      const V3<F> albedo = sample_albedo(m, kBaseColorSlot, hit.uv, in, o.fetches, &o.alpha);
       auto visibility = [&](int i, V3<F> l, mask_t<F> lit) -> F {
         F vis(1.0f);
         if constexpr (kShadow) {
@@ -116,8 +119,9 @@ struct DualKernel {
         }
         return vis;
       };
-      o.color = blinn_phong(*ctx.frame, m, pos, n, -w, albedo, visibility);
-      o.alpha = F(m.base_color.a);
+      o.color = finish_surface(ctx, in, hit.uv, albedo, o.fetches, [&] {
+        return blinn_phong(*ctx.frame, m, pos, n, -w, albedo, visibility);
+      });
       o.shading_normal = n;
       return o;
     }

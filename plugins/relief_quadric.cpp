@@ -115,12 +115,16 @@ struct QuadricKernel {
     const V3<F> pos = in.position + w * (t * world_per_t);
     if constexpr (kDepth) o.depth = corrected_depth(ctx, in, pos);
     if constexpr (kShadowPass) {
+      // MASK casters cut their shadow where the base colour at the hit is below the cutoff
+      if (m.alpha_mode == AlphaMode::kMask)
+        o.alpha = sample_alpha(m, kBaseColorSlot, hit_uv, in, o.fetches);
       return o;
     } else {
       const V3<F> nrm = sample_normal_map(m, kNormalSlot, tf, hit_uv, in, F(1.0f), o.fetches);
-      const V3<F> albedo = sample_albedo(m, kBaseColorSlot, hit_uv, in, o.fetches);
-      o.color = shade_lights<kReceive>(ctx, pos, nrm, nrm, -w, albedo, o.fetches);
-      o.alpha = F(m.base_color.a);
+      const V3<F> albedo = sample_albedo(m, kBaseColorSlot, hit_uv, in, o.fetches, &o.alpha);
+      o.color = finish_surface(ctx, in, hit_uv, albedo, o.fetches, [&] {
+        return shade_lights<kReceive>(ctx, pos, nrm, nrm, -w, albedo, o.fetches);
+      });
       o.shading_normal = nrm;
       return o;
     }

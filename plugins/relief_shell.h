@@ -160,10 +160,13 @@ template <class Search, EffectMask kEffects> struct ReliefKernel {
     const V3<F> pos = record_hit(in, view, depth_scale, hit, o);
     if constexpr (kDepth) o.depth = corrected_depth(ctx, in, pos);
     if constexpr (kShadowPass) {
+      // MASK casters cut their shadow where the base colour at the hit is below the cutoff
+      if (m.alpha_mode == AlphaMode::kMask)
+        o.alpha = sample_alpha(m, kBaseColorSlot, hit.uv, in, o.fetches);
       return o;
     } else {
       const V3<F> n = sample_normal_map(m, kNormalSlot, tf, hit.uv, in, F(1.0f), o.fetches);
-      const V3<F> albedo = sample_albedo(m, kBaseColorSlot, hit.uv, in, o.fetches);
+      const V3<F> albedo = sample_albedo(m, kBaseColorSlot, hit.uv, in, o.fetches, &o.alpha);
       // lighting at the displaced point: self-shadow ray, then the light's shadow map (lit lanes)
       auto visibility = [&](int i, V3<F> l, mask_t<F> lit) -> F {
         F vis(1.0f);
@@ -181,8 +184,9 @@ template <class Search, EffectMask kEffects> struct ReliefKernel {
         }
         return vis;
       };
-      o.color = blinn_phong(*ctx.frame, m, pos, n, -w, albedo, visibility);
-      o.alpha = F(m.base_color.a);
+      o.color = finish_surface(ctx, in, hit.uv, albedo, o.fetches, [&] {
+        return blinn_phong(*ctx.frame, m, pos, n, -w, albedo, visibility);
+      });
       o.shading_normal = n;
       return o;
     }

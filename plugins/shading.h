@@ -28,6 +28,10 @@ template <class F> struct FragIn {
   V2<F> duv_dx, duv_dy;      // per quad
   V2<F> quadric;             // per-vertex quadric (a, b)
   V2<F> tile_scale;          // texture-tile size (sx, sy)
+  V4<F> color;               // vertex colour rgba (COLOR_0), 1 when the mesh has none
+  V2<F> uv1;                 // TEXCOORD_1 (untransformed), 0 when the mesh has none
+  V2<F> duv1_dx, duv1_dy;    // per quad
+  bool has_extended;         // the packet carries colour and uv1 (varying::kCountExtended)
   F frag_z;                  // polygon depth (reversed-Z)
   bool front_facing;
 };
@@ -89,6 +93,17 @@ template <class F> inline FragIn<F> load_fragment(const FragmentPacket& p, int l
     f.quadric = {F(0.0f), F(0.0f)};
     f.tile_scale = {F(1.0f), F(1.0f)};
   }
+  f.has_extended = p.num_varyings >= kCountExtended;
+  if (f.has_extended) {
+    f.color = {load_var<F>(p, kColor, lane0), load_var<F>(p, kColor + 1, lane0),
+               load_var<F>(p, kColor + 2, lane0), load_var<F>(p, kColor + 3, lane0)};
+    f.uv1 = {load_var<F>(p, kUv1, lane0), load_var<F>(p, kUv1 + 1, lane0)};
+    f.duv1_dx = {ddx<F>(p, kUv1, lane0), ddx<F>(p, kUv1 + 1, lane0)};
+    f.duv1_dy = {ddy<F>(p, kUv1, lane0), ddy<F>(p, kUv1 + 1, lane0)};
+  } else {
+    f.color = {F(1.0f), F(1.0f), F(1.0f), F(1.0f)};
+    f.uv1 = f.duv1_dx = f.duv1_dy = {F(0.0f), F(0.0f)};
+  }
   f.frag_z = load_lanes(&p.frag_z[lane0], F());
   f.front_facing = p.front_facing;
   return f;
@@ -121,6 +136,19 @@ inline void store_out(const ShadeOut<F>& o, const FragmentPacket& p, int lane0, 
   }
 }
 
+// The material's alphaMode applied to a kernel's output (docs/scene-format.md, "Alpha"): MASK
+// discards the lanes whose alpha is below alpha_cutoff, and MASK and OPAQUE write alpha 1; BLEND
+// keeps the alpha, clamped to [0, 1], for the rasterizer to composite with.
+template <class F> inline ShadeOut<F> resolve_alpha(const MaterialUniforms& m, ShadeOut<F> o) {
+  if (m.alpha_mode == AlphaMode::kBlend) {
+    o.alpha = clamp(o.alpha, F(0.0f), F(1.0f));
+    return o;
+  }
+  if (m.alpha_mode == AlphaMode::kMask) o.discard = o.discard | (o.alpha < F(m.alpha_cutoff));
+  o.alpha = F(1.0f);
+  return o;
+}
+
 }  // namespace detail
 
 namespace detail {
@@ -134,13 +162,14 @@ template <class Kernel>
     for (int l = 0; l < lanes; ++l) {
       if (!in.coverage[l >> 2]) continue;
       const FragIn<float> f = load_fragment<float>(in, l);
-      store_out(Kernel::template shade<float>(ctx, f), in, l, out, wc);
+      store_out(resolve_alpha(*ctx.material, Kernel::template shade<float>(ctx, f)), in, l, out,
+                wc);
     }
     return;
   }
   for (int l = 0; l < lanes; l += 8) {
     const FragIn<F8> f = load_fragment<F8>(in, l);
-    store_out(Kernel::template shade<F8>(ctx, f), in, l, out, wc);
+    store_out(resolve_alpha(*ctx.material, Kernel::template shade<F8>(ctx, f)), in, l, out, wc);
   }
 }
 
@@ -153,7 +182,7 @@ RELIEF_AVX2_ENTRY void shade_packet_avx2(const ShadeContext& ctx, const Fragment
   const int lanes = in.num_quads * kQuadLanes;
   for (int l = 0; l < lanes; l += 8) {
     const FragIn<F8> f = load_fragment<F8>(in, l);
-    store_out(Kernel::template shade<F8>(ctx, f), in, l, out, wc);
+    store_out(resolve_alpha(*ctx.material, Kernel::template shade<F8>(ctx, f)), in, l, out, wc);
   }
 }
 

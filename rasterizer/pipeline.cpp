@@ -373,7 +373,14 @@ struct Rasterizer::Impl {
           glm::vec4 c(o.color[0][lane], o.color[1][lane], o.color[2][lane], o.color[3][lane]);
           for (int k = 0; k < 4; ++k)
             if (!std::isfinite(c[k])) c[k] = 0.0f;
-          fb.color.at(x, y) = c;
+          glm::vec4& dst = fb.color.at(x, y);
+          if (dc.blend) {
+            const float a = std::clamp(c.a, 0.0f, 1.0f), keep = 1.0f - a;
+            dst = glm::vec4(c.r * a + dst.r * keep, c.g * a + dst.g * keep,
+                            c.b * a + dst.b * keep, a + dst.a * keep);
+          } else {
+            dst = c;
+          }
         }
         if (write_aov) {
           float* a = fb.aov_at(x, y);

@@ -51,6 +51,10 @@ struct DrawCall {
   bool depth_write = true;
   bool color_write = true;
   bool aov_write = false;            // copy the shader's AOVs into the framebuffer
+  // Composite the shader's colour (straight alpha) over the target's, which holds premultiplied
+  // colour: rgb = src.rgb * a + dst.rgb * (1 - a), alpha = a + dst.a * (1 - a) (src-over, linear).
+  // Fragments of a tile are composited in submission order, so the result is deterministic.
+  bool blend = false;
   PacketShader shader = nullptr;
   const void* user = nullptr;        // passed to the shader
 };

@@ -3,7 +3,9 @@
 // main pass, whose receivers read the maps through LightUniform::shadow.
 #include <chrono>
 #include <memory>
+#include <string_view>
 
+#include "plugins/surface.h"
 #include "rasterizer/pipeline.h"
 #include "render/render.h"
 
@@ -31,6 +33,31 @@ void call_plugin(const void* user, const FragmentPacket& in, FragmentOutput& out
 // Casters without a shadow-pass variant: polygon depth only, nothing to shade.
 void depth_only(const void*, const FragmentPacket&, FragmentOutput&, WorkCounters&) {}
 
+// MASK casters without a shadow-pass variant: polygon depth, cut out where the base colour's
+// alpha at uv is below the cutoff (shade_packet's resolve_alpha discards). The material it gets
+// has the plugin's base_color texture, if any, in slot 0.
+struct MaskCasterKernel {
+  template <class F> static ShadeOut<F> shade(const ShadeContext& ctx, const FragIn<F>& in) {
+    ShadeOut<F> o;
+    o.alpha = sample_alpha(*ctx.material, 0, in.uv, in, o.fetches);
+    return o;
+  }
+};
+
+// `b`'s uniforms for MaskCasterKernel: its base_color texture (when its plugin has the slot)
+// moved to slot 0.
+MaterialUniforms mask_caster_uniforms(const BoundMaterial& b) {
+  MaterialUniforms u = b.uniforms;
+  for (int s = 0; s < kMaxTextureSlots; ++s) u.textures[s] = nullptr;
+  for (int s = 0; s < b.plugin->num_textures && s < kMaxTextureSlots; ++s)
+    if (std::string_view(b.plugin->textures[s].name) == "base_color") {
+      u.textures[0] = b.uniforms.textures[s];
+      u.samplers[0] = b.uniforms.samplers[s];
+      u.uv_maps[0] = b.uniforms.uv_maps[s];
+    }
+  return u;
+}
+
 DepthTest depth_test_for(DepthOutput d) {
   switch (d) {
     case DepthOutput::kNone:
@@ -46,7 +73,7 @@ DrawCall make_draw(const PreparedDraw& p, const BoundMaterial& b) {
   DrawCall dc;
   dc.clip = p.clip;
   dc.varyings = p.varyings;
-  dc.num_varyings = varying::kCount;
+  dc.num_varyings = p.num_varyings;
   dc.indices = *p.indices;
   dc.cull = b.double_sided ? CullMode::kNone : CullMode::kBack;
   return dc;
@@ -118,18 +145,24 @@ class CpuBackend final : public Backend {
     const std::vector<PreparedDraw> prepared = prepare_draws(scene, frame.view_proj);
     std::vector<DrawCall> draws;
     draws.reserve(prepared.size());
-    for (const PreparedDraw& p : prepared) {
-      DrawCall dc = make_draw(p, plan.materials[p.material]);
+    // Plan::draw_order: opaque and MASK draws, then BLEND ones back to front (composited over
+    // the opaque image, depth tested against it, not written; no AOVs).
+    for (int i : main_draw_order(plan, prepared.size())) {
+      const PreparedDraw& p = prepared[i];
+      const BoundMaterial& b = plan.materials[p.material];
+      DrawCall dc = make_draw(p, b);
       dc.depth_test = tests[p.material];
-      dc.aov_write = opt.aovs != 0;
       dc.shader = &call_plugin;
       dc.user = &bindings[p.material];
+      dc.blend = b.uniforms.alpha_mode == AlphaMode::kBlend;
+      dc.depth_write = !dc.blend;
+      dc.aov_write = opt.aovs != 0 && !dc.blend;
       draws.push_back(dc);
     }
     const auto t1 = Clock::now();
     PassStats main;
     main.name = "main";
-    const ClearValues clear{scene.background, 0.0f};
+    const ClearValues clear{clear_color(scene), 0.0f};
     main.raster = rasterizer_->draw(result.framebuffer, draws, &clear);
     const auto t2 = Clock::now();
     main.ms = ms_between(t1, t2);
@@ -153,12 +186,18 @@ class CpuBackend final : public Backend {
     PassStats stats = shadow_pass_stats(pass);
     std::vector<Plane> faces;
     std::vector<DrawBinding> bindings(plan.materials.size());
+    std::vector<MaterialUniforms> mask_uniforms(plan.materials.size());
     for (int f = 0; f < s.faces; ++f) {
       const FrameUniforms frame = shadow_face_frame(s, f);
       for (size_t m = 0; m < plan.materials.size(); ++m) {
         const BoundMaterial& b = plan.materials[m];
         bindings[m].fn = b.shadow_effects ? b.plugin->select(b.shadow_effects) : nullptr;
         bindings[m].ctx = ShadeContext{&frame, &b.uniforms, state_of[m], b.shadow_effects};
+        if (!bindings[m].fn && b.uniforms.alpha_mode == AlphaMode::kMask) {
+          mask_uniforms[m] = mask_caster_uniforms(b);
+          bindings[m].fn = &shade_packet<MaskCasterKernel>;
+          bindings[m].ctx = ShadeContext{&frame, &mask_uniforms[m], nullptr, 0};
+        }
       }
       const std::vector<PreparedDraw> prepared = prepare_draws(scene, frame.view_proj);
       std::vector<DrawCall> draws;
@@ -169,7 +208,9 @@ class CpuBackend final : public Backend {
         DrawCall dc = make_draw(p, b);
         dc.color_write = false;
         if (bindings[p.material].fn) {
-          dc.depth_test = depth_test_for(b.plugin->depth_output(b.shadow_effects));
+          dc.depth_test = b.shadow_effects
+                              ? depth_test_for(b.plugin->depth_output(b.shadow_effects))
+                              : DepthTest::kEarly;  // MaskCasterKernel: polygon depth
           dc.shader = &call_plugin;
           dc.user = &bindings[p.material];
         } else {

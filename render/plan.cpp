@@ -1,4 +1,8 @@
 // The planner (DESIGN.md, "Effects, and simulating only what a scene calls for").
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <limits>
 #include <sstream>
 #include <utility>
 
@@ -72,7 +76,7 @@ ShadowParticipants find_participants(const Scene& scene, const Plan& plan) {
     const Material& m = scene.materials[mi];
     const PluginDescriptor& plugin = *plan.materials[mi].plugin;
     const Bounds b = instance_bounds(scene, static_cast<int>(i));
-    if (m.casts_shadow && !b.empty()) {
+    if (m.casts_shadow && m.alpha_mode != AlphaMode::kBlend && !b.empty()) {
       p.casters.add(b);
       p.caster_instances.push_back(static_cast<int>(i));
       if (plugin.supported_effects & kEffectShadowPass) ++p.relief_casters;
@@ -149,19 +153,55 @@ void plan_shadow_variants(const Scene& scene, Plan& plan) {
     }
     if (!m.casts_shadow) {
       b.reasons.push_back("casts_shadow: off (not asked by the material)");
+    } else if (m.alpha_mode == AlphaMode::kBlend) {
+      b.reasons.push_back("casts_shadow: off (alphaMode BLEND: blended surfaces cast no shadow)");
     } else if (!any) {
       b.reasons.push_back("casts_shadow: asked, but there is no shadow pass");
     } else if (b.plugin->supported_effects & kEffectShadowPass) {
       b.shadow_caster = true;
       b.shadow_effects = kEffectShadowPass | (b.effects & kEffectSilhouette);
-      b.reasons.push_back("casts_shadow: on (shadow passes run " + plugin +
-                          "'s intersection from the light and write the corrected depth)");
+      b.reasons.push_back(
+          "casts_shadow: on (shadow passes run " + plugin +
+          "'s intersection from the light and write the corrected depth" +
+          (m.alpha_mode == AlphaMode::kMask ? ", cut out by alpha at the hit)" : ")"));
     } else {
       b.shadow_caster = true;
-      b.reasons.push_back("casts_shadow: on (polygon depth: " + plugin +
-                          " has no shadow-pass variant)");
+      b.reasons.push_back(
+          "casts_shadow: on (polygon depth: " + plugin + " has no shadow-pass variant" +
+          (m.alpha_mode == AlphaMode::kMask ? "; cut out by the base colour's alpha)" : ")"));
     }
   }
+}
+
+// `v` as %g prints it (0.5, not 0.500000).
+std::string short_number(float v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%g", static_cast<double>(v));
+  return buf;
+}
+
+// Plan::draw_order: OPAQUE and MASK instances in submission order, then BLEND ones sorted back
+// to front by the view-space depth of their bounds' centre, ties (and empty bounds, drawn first)
+// in submission order.
+std::vector<int> blend_draw_order(const Scene& scene, const glm::mat4& view) {
+  std::vector<int> order, blended;
+  std::vector<float> far_key(scene.instances.size(), 0.0f);
+  for (size_t i = 0; i < scene.instances.size(); ++i) {
+    const Material& m = scene.materials[scene.instances[i].material];
+    if (m.alpha_mode != AlphaMode::kBlend) {
+      order.push_back(static_cast<int>(i));
+      continue;
+    }
+    const Bounds b = instance_bounds(scene, static_cast<int>(i));
+    const float z = b.empty() ? NAN : (view * glm::vec4((b.lo + b.hi) * 0.5f, 1.0f)).z;
+    // distance along the view direction (the eye looks down -z); farthest first
+    far_key[i] = std::isfinite(z) ? -z : std::numeric_limits<float>::infinity();
+    blended.push_back(static_cast<int>(i));
+  }
+  std::stable_sort(blended.begin(), blended.end(),
+                   [&](int a, int b) { return far_key[a] > far_key[b]; });
+  order.insert(order.end(), blended.begin(), blended.end());
+  return order;
 }
 
 }  // namespace
@@ -238,10 +278,37 @@ Result<Plan> make_plan(const Scene& scene, const RenderOptions& opt) {
       b.uniforms.textures[s] = it->second.get();
       b.uniforms.samplers[s] = m.sampler;
       b.keep_alive.push_back(it->second);
+      if (auto u = m.uv_maps.find(slot.name); u != m.uv_maps.end())
+        b.uniforms.uv_maps[s] = u->second;
     }
+    // The material-wide glTF terms (plugins/surface.h finish_surface).
+    b.uniforms.emissive = m.emissive * m.emissive_strength;
+    if (m.emissive_texture && b.uniforms.emissive != glm::vec3(0.0f)) {
+      b.uniforms.emissive_texture = m.emissive_texture.get();
+      b.uniforms.emissive_sampler = m.sampler;
+      b.uniforms.emissive_uv = m.emissive_uv;
+      b.keep_alive.push_back(m.emissive_texture);
+    }
+    if (m.occlusion_texture && m.occlusion_strength != 0.0f) {
+      b.uniforms.occlusion_texture = m.occlusion_texture.get();
+      b.uniforms.occlusion_sampler = m.sampler;
+      b.uniforms.occlusion_uv = m.occlusion_uv;
+      b.uniforms.occlusion_strength = m.occlusion_strength;
+      b.keep_alive.push_back(m.occlusion_texture);
+    }
+    b.uniforms.normal_scale = m.normal_scale;
+    b.uniforms.unlit = m.unlit;
+    if (m.unlit) b.reasons.push_back("unlit: base colour only (KHR_materials_unlit)");
     b.uniforms.base_color = m.base_color;
     b.uniforms.specular = m.specular;
     b.uniforms.shininess = m.shininess;
+    b.uniforms.alpha_mode = m.alpha_mode;
+    b.uniforms.alpha_cutoff = m.alpha_cutoff;
+    if (m.alpha_mode == AlphaMode::kMask)
+      b.reasons.push_back("alpha: MASK (discarded below alpha " + short_number(m.alpha_cutoff) +
+                          ", main and shadow passes)");
+    else if (m.alpha_mode == AlphaMode::kBlend)
+      b.reasons.push_back("alpha: BLEND (after the opaque draws, back to front, no depth write)");
     b.double_sided = m.double_sided;
     if (m.self_shadow && scene.lights.empty())
       b.reasons.push_back("self_shadow: off (the scene has no light)");
@@ -294,6 +361,7 @@ Result<Plan> make_plan(const Scene& scene, const RenderOptions& opt) {
   plan.shadow = opt.shadow;
   RELIEF_RETURN_IF_ERROR(plan_shadow_passes(scene, opt, plan));
   plan_shadow_variants(scene, plan);
+  plan.draw_order = blend_draw_order(scene, f.view);
   PassPlan main;
   main.kind = PassPlan::Kind::kMain;
   main.name = "main";

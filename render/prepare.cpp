@@ -20,8 +20,12 @@ std::vector<PreparedDraw> prepare_draws(const Scene& scene, const glm::mat4& vie
     d.material = inst.material;
     d.indices = &mesh.indices;
     const size_t n = mesh.positions.size();
+    // COLOR_0 and TEXCOORD_1 travel only for meshes that have them (varying::kCountExtended).
+    const bool extended = !mesh.colors.empty() || !mesh.uvs1.empty();
+    const int nv = extended ? varying::kCountExtended : varying::kCount;
+    d.num_varyings = nv;
     d.clip.resize(n);
-    d.varyings.resize(n * varying::kCount);
+    d.varyings.resize(n * nv);
     const glm::mat4 model = inst.transform;
     const glm::mat3 linear(model);
     const glm::mat3 normal_matrix = glm::transpose(glm::inverse(linear));
@@ -29,7 +33,7 @@ std::vector<PreparedDraw> prepare_draws(const Scene& scene, const glm::mat4& vie
     for (size_t v = 0; v < n; ++v) {
       const glm::vec4 wp = model * glm::vec4(mesh.positions[v], 1.0f);
       d.clip[v] = view_proj * wp;
-      float* o = &d.varyings[v * varying::kCount];
+      float* o = &d.varyings[v * nv];
       const glm::vec3 nrm = v < mesh.normals.size() ? normal_matrix * mesh.normals[v] : glm::vec3(0, 0, 1);
       const glm::vec4 t = v < mesh.tangents.size() ? mesh.tangents[v] : glm::vec4(1, 0, 0, 1);
       const glm::vec3 wt = linear * glm::vec3(t);
@@ -57,6 +61,13 @@ std::vector<PreparedDraw> prepare_draws(const Scene& scene, const glm::mat4& vie
                                            wt.x,  wt.y,  wt.z,  t.w * handedness,
                                            uv.x,  uv.y,  q.x,   q.y,   ts.x,  ts.y};
       for (int k = 0; k < varying::kCount; ++k) o[k] = vals[k];
+      if (extended) {
+        const glm::vec4 c = v < mesh.colors.size() ? mesh.colors[v] : glm::vec4(1.0f);
+        const glm::vec2 uv1 = v < mesh.uvs1.size() ? mesh.uvs1[v] : glm::vec2(0.0f);
+        const float ext[] = {c.r, c.g, c.b, c.a, uv1.x, uv1.y};
+        for (int k = 0; k < varying::kCountExtended - varying::kCount; ++k)
+          o[varying::kCount + k] = ext[k];
+      }
     }
     out.push_back(std::move(d));
   }

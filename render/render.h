@@ -7,6 +7,7 @@
 // (prepare_draws), the same textures and the same uniforms, and return the same RenderResult.
 #pragma once
 
+#include <algorithm>
 #include <map>
 #include <memory>
 #include <string>
@@ -71,17 +72,40 @@ struct Plan {
   FrameUniforms frame;                   // main-pass camera and lights
   ShadowSettings shadow;                 // lookups of every shadow pass
   std::vector<std::string> skipped;      // passes not made, and why (for --explain)
+  // The main pass's instances in draw order: the OPAQUE and MASK ones in submission order, then
+  // the BLEND ones back to front by the view depth of their bounds' centre (ties: submission
+  // order). Both backends draw in this order.
+  std::vector<int> draw_order;
   std::string explain() const;           // human-readable plan, one line per decision
 };
 
 Result<Plan> make_plan(const Scene& scene, const RenderOptions& options);
+
+// plan.draw_order when it covers the n prepared draws (a plan made for this scene), else the
+// submission order 0..n-1 (a scene changed since it was planned).
+inline std::vector<int> main_draw_order(const Plan& plan, size_t n) {
+  bool fits = plan.draw_order.size() == n;
+  for (int i : plan.draw_order) fits = fits && i >= 0 && static_cast<size_t>(i) < n;
+  if (fits) return plan.draw_order;
+  std::vector<int> order(n);
+  for (size_t i = 0; i < n; ++i) order[i] = static_cast<int>(i);
+  return order;
+}
+
+// The colour a frame's target is cleared to: the scene's background, alpha clamped to [0, 1],
+// premultiplied (targets hold premultiplied linear colour; docs/aovs.md, "Output alpha").
+inline glm::vec4 clear_color(const Scene& scene) {
+  const float a = scene.background.a >= 0.0f ? std::min(scene.background.a, 1.0f) : 0.0f;
+  return glm::vec4(glm::vec3(scene.background) * a, a);
+}
 
 // Vertex data of one instance, in the standard varying layout (plugins/plugin.h).
 struct PreparedDraw {
   int instance = 0;
   int material = 0;
   std::vector<glm::vec4> clip;
-  std::vector<float> varyings;  // varying::kCount per vertex
+  std::vector<float> varyings;  // num_varyings per vertex
+  int num_varyings = varying::kCount;  // kCountExtended when the mesh has COLOR_0 or TEXCOORD_1
   const std::vector<uint32_t>* indices = nullptr;
 };
 std::vector<PreparedDraw> prepare_draws(const Scene& scene, const glm::mat4& view_proj);

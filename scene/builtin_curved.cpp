@@ -194,6 +194,26 @@ void teapot_patch(int k, float u, float v, glm::vec3& p, glm::vec3& pu, glm::vec
     }
 }
 
+// The tangent of a surface point: dP/ds made perpendicular to the normal, w = +1 where
+// cross(N, T) runs along dP/dt (from p_lo to p_hi, points a little before and after in t) and
+// the uv tiling keeps the direction of v, -1 otherwise.
+glm::vec4 surface_tangent(const SurfacePoint& sp, glm::vec3 p_lo, glm::vec3 p_hi,
+                          glm::vec2 uv_tiles) {
+  glm::vec3 t = sp.ds - sp.n * glm::dot(sp.n, sp.ds);
+  t = glm::length(t) > 1e-12f ? glm::normalize(t) : glm::vec3(0.0f);
+  const float along = glm::dot(glm::cross(sp.n, t), p_hi - p_lo) * uv_tiles.y;
+  return glm::vec4(t * (uv_tiles.x < 0.0f ? -1.0f : 1.0f), along < 0.0f ? -1.0f : 1.0f);
+}
+
+// A point with no usable dP/ds (a surface that gives ds = 0): all tangents from prepare_mesh.
+void drop_unusable_tangents(Mesh& m) {
+  for (const glm::vec4& tg : m.tangents)
+    if (!(glm::dot(glm::vec3(tg), glm::vec3(tg)) > 0.5f)) {
+      m.tangents.clear();
+      return;
+    }
+}
+
 }  // namespace
 
 Mesh parametric_mesh(const std::string& name, const Surface& surface, int ns, int nt,
@@ -207,7 +227,10 @@ Mesh parametric_mesh(const std::string& name, const Surface& surface, int ns, in
       m.positions.push_back(sp.p);
       m.normals.push_back(sp.n);
       m.uvs.push_back(glm::vec2(s, t) * uv_tiles);
+      m.tangents.push_back(surface_tangent(sp, surface(s, std::max(t - 1e-3f, 0.0f)).p,
+                                           surface(s, std::min(t + 1e-3f, 1.0f)).p, uv_tiles));
     }
+  drop_unusable_tangents(m);
   const uint32_t row = static_cast<uint32_t>(ns + 1);
   for (uint32_t j = 0; j < static_cast<uint32_t>(nt); ++j)
     for (uint32_t i = 0; i < static_cast<uint32_t>(ns); ++i) {
@@ -225,7 +248,7 @@ Surface sphere_surface(float r) {
     const float st = (t <= 0.0f || t >= 1.0f) ? 0.0f : std::sin(theta);
     const float ct = t <= 0.0f ? -1.0f : (t >= 1.0f ? 1.0f : std::cos(theta));
     const glm::vec3 n(st * std::cos(phi), ct, -st * std::sin(phi));
-    return SurfacePoint{n * r, n};
+    return SurfacePoint{n * r, n, glm::vec3(-std::sin(phi), 0.0f, -std::cos(phi))};
   };
 }
 
@@ -234,7 +257,7 @@ Surface torus_surface(float R, float r) {
     const float a = turn(s), b = turn(t);
     const glm::vec3 n(std::cos(b) * std::cos(a), std::sin(b), -std::cos(b) * std::sin(a));
     const glm::vec3 c(R * std::cos(a), 0.0f, -R * std::sin(a));
-    return SurfacePoint{c + n * r, n};
+    return SurfacePoint{c + n * r, n, glm::vec3(-std::sin(a), 0.0f, -std::cos(a))};
   };
 }
 
@@ -242,7 +265,8 @@ Surface cylinder_surface(float r, float h) {
   return [r, h](float s, float t) {
     const float a = turn(s);
     const glm::vec3 n(std::cos(a), 0.0f, -std::sin(a));
-    return SurfacePoint{n * r + glm::vec3(0.0f, h * (t - 0.5f), 0.0f), n};
+    return SurfacePoint{n * r + glm::vec3(0.0f, h * (t - 0.5f), 0.0f), n,
+                        glm::vec3(-std::sin(a), 0.0f, -std::cos(a))};
   };
 }
 
@@ -258,17 +282,22 @@ Mesh make_teapot(int n, float height, glm::vec2 uv_tiles) {
         glm::vec3 p, pu, pv;
         teapot_patch(k, t, s, p, pu, pv);
         glm::vec3 nrm = glm::cross(pv, pu);  // outward
+        glm::vec3 ds = pv, dt = pu;          // dP/ds, dP/dt
         if (!(glm::length(nrm) > 1e-6f)) {
-          // a collapsed patch edge (lid knob, bottom centre): the normal a little inside
+          // a collapsed patch edge (lid knob, bottom centre): the frame a little inside
           glm::vec3 q, qu, qv;
           teapot_patch(k, std::clamp(t, 1e-3f, 1.0f - 1e-3f), std::clamp(s, 1e-3f, 1.0f - 1e-3f), q,
                        qu, qv);
           nrm = glm::cross(qv, qu);
+          ds = qv;
+          dt = qu;
         }
         const float len = glm::length(nrm);
+        const glm::vec3 n = len > 0.0f ? nrm / len : glm::vec3(0, 1, 0);
         m.positions.push_back(p * scale);
-        m.normals.push_back(len > 0.0f ? nrm / len : glm::vec3(0, 1, 0));
+        m.normals.push_back(n);
         m.uvs.push_back(glm::vec2(s, t) * uv_tiles);
+        m.tangents.push_back(surface_tangent({p, n, ds}, p - dt, p + dt, uv_tiles));
       }
     const uint32_t row = static_cast<uint32_t>(n + 1);
     for (uint32_t j = 0; j < static_cast<uint32_t>(n); ++j)
@@ -277,6 +306,7 @@ Mesh make_teapot(int n, float height, glm::vec2 uv_tiles) {
         m.indices.insert(m.indices.end(), {a, b, c, a, c, d});
       }
   }
+  drop_unusable_tangents(m);
   prepare_mesh(m);
   return m;
 }
@@ -290,9 +320,11 @@ ReliefTexel bumps(float u, float v) {
   const float r2 = (fu * fu + fv * fv) / 0.16f;
   const float d = r2 < 1.0f ? 0.7f - 0.7f * std::sqrt(1.0f - r2)
                             : 0.7f + 0.3f * std::min(1.0f, (r2 - 1.0f) * 4.0f);
-  const int cell =
-      static_cast<int>(std::floor(u * 4.0f)) + 4 * static_cast<int>(std::floor(v * 4.0f));
-  const float tone = (cell & 1) ? 0.85f : 1.0f;
+  // alternate bumps (a checkerboard) are a shade darker; the floor between them is one colour, so
+  // no tone step lies on the cell borders, which are mesh edges on the built-in meshes (a step
+  // there read as a shading seam along the edges: issue 23)
+  const int cell = static_cast<int>(std::floor(u * 4.0f)) + static_cast<int>(std::floor(v * 4.0f));
+  const float tone = (cell & 1) && r2 < 1.0f ? 0.85f : 1.0f;
   return {std::clamp(d, 0.0f, 1.0f), glm::vec3(0.75f, 0.45f, 0.25f) * tone * (1.0f - 0.4f * d)};
 }
 

@@ -10,16 +10,20 @@
 
 namespace relief {
 
-// A point of a parametric surface at (s, t) in [0, 1]^2: position and unit normal.
+// A point of a parametric surface at (s, t) in [0, 1]^2: position, unit normal and the unit
+// direction of dP/ds (the limit direction where dP/ds vanishes, as at a sphere's poles).
 struct SurfacePoint {
   glm::vec3 p;
   glm::vec3 n;
+  glm::vec3 ds;
 };
 using Surface = std::function<SurfacePoint(float s, float t)>;
 
 // A grid of (ns + 1) x (nt + 1) vertices at s = i / ns, t = j / nt with uv = (s, t) * uv_tiles,
 // two counter-clockwise triangles per cell seen from the normal side when (dP/ds, dP/dt, N) is
-// right-handed; analytic normals, the rest from prepare_mesh (scene/mesh_prep.h).
+// right-handed; analytic normals and tangents (T along dP/ds, made perpendicular to N; the
+// bitangent sign from dP/dt, so B runs along +v), the rest from prepare_mesh (scene/mesh_prep.h):
+// the surface's own frame, not an estimate from the triangulation.
 Mesh parametric_mesh(const std::string& name, const Surface& surface, int ns, int nt,
                      glm::vec2 uv_tiles);
 

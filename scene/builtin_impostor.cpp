@@ -21,8 +21,9 @@ TexturePtr depth_map(const DualDepthMaps& maps, const std::vector<float>& d) {
 TexturePtr normal_map(const DualDepthMaps& maps, const std::vector<glm::vec3>& n) {
   std::vector<float> rgba;
   rgba.reserve(n.size() * 4);
+  // the quad's uv runs +u = +x, +v = +y: green (toward the image top, -v) is -y (bake/normal_map.h)
   for (const glm::vec3& v : n)
-    rgba.insert(rgba.end(), {v.x * 0.5f + 0.5f, v.y * 0.5f + 0.5f, v.z * 0.5f + 0.5f, 1.0f});
+    rgba.insert(rgba.end(), {v.x * 0.5f + 0.5f, -v.y * 0.5f + 0.5f, v.z * 0.5f + 0.5f, 1.0f});
   return std::make_shared<Texture>(
       Texture::from_floats(TexFormat::kRGBA16F, maps.size, maps.size, rgba.data()));
 }

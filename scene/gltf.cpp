@@ -36,6 +36,7 @@
 #include "rasterizer/output_file.h"
 #include "rasterizer/safe_file.h"
 #include "scene/animation.h"
+#include "scene/gltf_decode.h"
 #include "scene/gltf_validate.h"
 #include "scene/image_io.h"
 #include "scene/mesh_prep.h"
@@ -48,6 +49,8 @@ using json = nlohmann::json;
 using ojson = nlohmann::ordered_json;
 
 constexpr const char* kTextureTransform = "KHR_texture_transform";
+constexpr const char* kEmissiveStrength = "KHR_materials_emissive_strength";
+constexpr const char* kUnlit = "KHR_materials_unlit";
 constexpr const char* kLightsPunctual = "KHR_lights_punctual";
 constexpr double kPi = 3.14159265358979323846;
 
@@ -92,22 +95,8 @@ const char* type_name(int type) {
   }
 }
 const char* component_name(int c) {
-  switch (c) {
-    case kByte:
-      return "BYTE";
-    case kUByte:
-      return "UNSIGNED_BYTE";
-    case kShort:
-      return "SHORT";
-    case kUShort:
-      return "UNSIGNED_SHORT";
-    case kUInt:
-      return "UNSIGNED_INT";
-    case kFloat:
-      return "FLOAT";
-    default:
-      return "an unknown component type";
-  }
+  const char* n = gltf_component_type_name(c);
+  return n ? n : "an unknown component type";
 }
 
 // The normal map load_gltf derives from a relief material's depth map when the file gives none:
@@ -130,13 +119,43 @@ struct UvTransform {
   glm::dvec2 scale{1.0};
   double rotation = 0.0;
   bool operator==(const UvTransform&) const = default;
+  int tex_coord = 0;  // the TEXCOORD_n it reads (textureInfo's, or the extension's override)
   glm::vec2 apply(glm::vec2 uv) const {
     const double c = std::cos(rotation), s = std::sin(rotation);
     const double u = scale.x * uv.x, v = scale.y * uv.y;
     return glm::vec2(static_cast<float>(c * u + s * v + offset.x),
                      static_cast<float>(-s * u + c * v + offset.y));
   }
+  // The linear part (columns) and offset of apply.
+  glm::dmat2 linear() const {
+    const double c = std::cos(rotation), s = std::sin(rotation);
+    return glm::dmat2(glm::dvec2(c * scale.x, -s * scale.x), glm::dvec2(s * scale.y, c * scale.y));
+  }
 };
+
+// The UvMap (plugins/plugin.h) from the uv varying (the main texture's transformed TEXCOORD_0)
+// to the coordinates of a texture with transform t: t composed with the inverse of `main` on
+// TEXCOORD_0, t itself on TEXCOORD_1.
+UvMap relative_uv_map(const UvTransform& t, const UvTransform& main) {
+  UvMap m;
+  if (t.tex_coord == 0 && t.offset == main.offset && t.scale == main.scale &&
+      t.rotation == main.rotation)
+    return m;
+  glm::dmat2 l = t.linear();
+  glm::dvec2 o = t.offset;
+  if (t.tex_coord == 0) {
+    const glm::dmat2 inv = glm::inverse(main.linear());
+    l = l * inv;
+    o = t.offset - l * main.offset;
+  }
+  m.col0 = glm::vec2(l[0]);
+  m.col1 = glm::vec2(l[1]);
+  m.offset = glm::vec2(o);
+  m.set = t.tex_coord;
+  m.identity = m.set == 0 && m.col0 == glm::vec2(1, 0) && m.col1 == glm::vec2(0, 1) &&
+               m.offset == glm::vec2(0.0f);
+  return m;
+}
 
 // A texture reference (textureInfo) wherever it appears.
 struct TexRef {
@@ -177,15 +196,15 @@ class Reader {
     }
     RELIEF_RETURN_IF_ERROR(place_cameras());
     RELIEF_RETURN_IF_ERROR(read_animation());
-    warn_unsupported_extensions();
     return std::move(scene_);
   }
 
  private:
   struct MaterialInfo {
     Material material;
-    bool bake_uv = false;  // a rotated texture transform, applied to the primitives' uvs
-    UvTransform uv;
+    bool bake_uv = false;   // a rotated texture transform, applied to the primitives' uvs
+    UvTransform uv;         // the main texture's (the uv varying's)
+    std::string needs_uv1;  // pointer of a textureInfo reading TEXCOORD_1, empty if none
   };
   struct CameraNode {
     int camera, node, order;
@@ -293,24 +312,11 @@ class Reader {
 
   // ---- top level ----
   Status check_required_extensions() const {
-    const std::set<std::string> supported = {kReliefExtension, kTextureTransform, kLightsPunctual};
     for (size_t i = 0; i < m_.extensionsRequired.size(); ++i)
-      if (!supported.count(m_.extensionsRequired[i]))
+      if (!gltf_extension_supported(m_.extensionsRequired[i]))
         return fail("/extensionsRequired/" + std::to_string(i),
                     "required extension '" + m_.extensionsRequired[i] + "' is not supported");
     return {};
-  }
-
-  // glTF says to ignore an extension that is used but not required: one warning line names those
-  // relief lacks (printed only for a scene that loads, so an error stays the only line).
-  void warn_unsupported_extensions() const {
-    const std::set<std::string> supported = {kReliefExtension, kTextureTransform, kLightsPunctual};
-    std::string ignored;
-    for (const std::string& e : m_.extensionsUsed)
-      if (!supported.count(e)) ignored += (ignored.empty() ? "'" : ", '") + e + "'";
-    if (ignored.empty()) return;
-    std::fprintf(stderr, "relief: warning: %s: /extensionsUsed: not supported, ignored: %s\n",
-                 one_line_text(path_, 200).c_str(), one_line_text(ignored, 160).c_str());
   }
 
   Status read_root_extension() {
@@ -329,6 +335,66 @@ class Reader {
   }
 
   // ---- textures ----
+  // A float texture's exact texels (`relief export`, docs/scene-format.md, "Float textures"):
+  // the texture's RELIEF_relief_mapping {texels: buffer view, format, width, height}; null when
+  // the texture has none (its image is then decoded as usual).
+  Result<TexturePtr> exact_texels(const TexRef& r, TexUse use, bool mipmapped) {
+    const std::string tp = "/textures/" + std::to_string(r.index);
+    Result<json> ext = extension(m_.textures[r.index].extensions_json_string, kReliefExtension, tp);
+    if (!ext.ok()) return ext.status();
+    if (ext->is_null()) return TexturePtr();
+    const auto key = std::make_tuple(-1 - r.index, static_cast<int>(use), mipmapped);
+    if (auto it = textures_.find(key); it != textures_.end()) return it->second;
+    const std::string ep = tp + "/extensions/" + kReliefExtension;
+    RELIEF_RETURN_IF_ERROR(check_keys(*ext, ep, {"texels", "format", "width", "height"}));
+    for (const char* k : {"texels", "format", "width", "height"})
+      if (!ext->contains(k)) return fail(ep, std::string("missing '") + k + "'");
+    int view = -1, w = 0, h = 0;
+    RELIEF_RETURN_IF_ERROR(get_int(*ext, "texels", ep, view, 0, 1 << 30));
+    RELIEF_RETURN_IF_ERROR(get_int(*ext, "width", ep, w, 1, kMaxImageSide));
+    RELIEF_RETURN_IF_ERROR(get_int(*ext, "height", ep, h, 1, kMaxImageSide));
+    if (static_cast<long long>(w) * h > kMaxTextureTexels)
+      return fail(ep, std::to_string(w) + "x" + std::to_string(h) + " is more than " +
+                          std::to_string(kMaxTextureTexels) + " texels");
+    const json& f = (*ext)["format"];
+    TexFormat format = TexFormat::kR32F;
+    if (f == "R32F")
+      format = TexFormat::kR32F;
+    else if (f == "R16F")
+      format = TexFormat::kR16F;
+    else if (f == "RGBA16F")
+      format = TexFormat::kRGBA16F;
+    else
+      return fail(ep + "/format", "expected R32F, R16F or RGBA16F, got " + f.dump());
+    if (use == TexUse::kHeight)
+      return fail(ep, "exact texels hold depth: depth_is_height does not apply to them");
+    if (view >= static_cast<int>(m_.bufferViews.size()))
+      return fail(ep + "/texels", "buffer view " + std::to_string(view) + " does not exist");
+    const tinygltf::BufferView& bv = m_.bufferViews[view];
+    const size_t bytes = static_cast<size_t>(w) * h * format_bytes_per_texel(format);
+    if (bv.byteLength != bytes)
+      return fail(ep + "/texels", "buffer view " + std::to_string(view) + " has " +
+                                      std::to_string(bv.byteLength) + " bytes, " +
+                                      std::to_string(w) + "x" + std::to_string(h) + " " +
+                                      format_name(format) + " needs " + std::to_string(bytes));
+    if (bv.buffer < 0 || bv.buffer >= static_cast<int>(m_.buffers.size()) ||
+        bv.byteOffset + bv.byteLength > m_.buffers[bv.buffer].data.size())
+      return fail(ep + "/texels",
+                  "buffer view " + std::to_string(view) + " lies outside its buffer");
+    const uint8_t* src = m_.buffers[bv.buffer].data.data() + bv.byteOffset;
+    for (size_t i = 0; format == TexFormat::kR32F && i < bytes; i += 4) {
+      float v;
+      std::memcpy(&v, src + i, 4);
+      if (!std::isfinite(v))
+        return fail(ep + "/texels", "texel " + std::to_string(i / 4) + " is not finite");
+    }
+    Texture t(format, w, h, src, use == TexUse::kColor ? ColorSpace::kSRGB : ColorSpace::kLinear);
+    if (mipmapped) t.generate_mips(use == TexUse::kCone ? MipReduce::kMin : MipReduce::kAverage);
+    TexturePtr ptr = std::make_shared<Texture>(std::move(t));
+    textures_[key] = ptr;
+    return ptr;
+  }
+
   Result<TexRef> tex_ref_from_json(const json& j, const std::string& pointer) const {
     if (!j.is_object()) return fail(pointer, "expected a textureInfo object");
     RELIEF_RETURN_IF_ERROR(check_keys(j, pointer, {"index", "texCoord"}));
@@ -368,9 +434,13 @@ class Reader {
       RELIEF_RETURN_IF_ERROR(get_int(r.transform, "texCoord", p, tex_coord, 0, 1 << 30));
       if (t.scale.x == 0.0 || t.scale.y == 0.0) return fail(p + "/scale", "scale must not be 0");
     }
-    if (tex_coord != 0)
-      return fail(r.pointer + "/texCoord",
-                  "TEXCOORD_" + std::to_string(tex_coord) + " is not supported (only TEXCOORD_0)");
+    if (tex_coord > 1)
+      return fail(r.pointer + (r.transform.is_object() && r.transform.contains("texCoord")
+                                   ? std::string("/extensions/") + kTextureTransform + "/texCoord"
+                                   : std::string("/texCoord")),
+                  "TEXCOORD_" + std::to_string(tex_coord) +
+                      " is not supported (only TEXCOORD_0 and TEXCOORD_1)");
+    t.tex_coord = tex_coord;
     return t;
   }
 
@@ -434,16 +504,17 @@ class Reader {
 
   // Decodes image `index` for `use` (cached: one texture per image, use and mip choice).
   Result<TexturePtr> texture(const TexRef& r, TexUse use, bool mipmapped) {
-    const tinygltf::Texture& tex = m_.textures[r.index];
-    const std::string tp = "/textures/" + std::to_string(r.index);
-    if (tex.source < 0 || tex.source >= static_cast<int>(m_.images.size()))
-      return fail(tp + "/source", tex.source < 0
-                                      ? "texture has no source image"
-                                      : "image " + std::to_string(tex.source) + " does not exist");
-    const auto key = std::make_tuple(tex.source, static_cast<int>(use), mipmapped);
+    if (Result<TexturePtr> t = exact_texels(r, use, mipmapped); !t.ok() || *t) return t;
+    // EXT_texture_webp's source when the texture has one, else the core source (its fallback).
+    std::string sp;
+    const int source = texture_source(m_, r.index, &sp);
+    if (source < 0 || source >= static_cast<int>(m_.images.size()))
+      return fail(sp, source < 0 ? "texture has no source image"
+                                 : "image " + std::to_string(source) + " does not exist");
+    const auto key = std::make_tuple(source, static_cast<int>(use), mipmapped);
     if (auto it = textures_.find(key); it != textures_.end()) return it->second;
-    const tinygltf::Image& img = m_.images[tex.source];
-    const std::string ip = "/images/" + std::to_string(tex.source);
+    const tinygltf::Image& img = m_.images[source];
+    const std::string ip = "/images/" + std::to_string(source);
     TextureLoadOptions opt;
     opt.color_space = use == TexUse::kColor ? ColorSpace::kSRGB : ColorSpace::kLinear;
     opt.first_channel_only = use == TexUse::kDepth || use == TexUse::kHeight;
@@ -491,7 +562,10 @@ class Reader {
     if (bytes.empty()) return Status::error("image data is empty");
     const bool png = bytes.size() >= 8 && std::memcmp(bytes.data(), "\x89PNG\r\n\x1a\n", 8) == 0;
     const bool jpeg = bytes.size() >= 3 && bytes[0] == 0xff && bytes[1] == 0xd8 && bytes[2] == 0xff;
-    if (!png && !jpeg) return Status::error("embedded image is neither PNG nor JPEG");
+    const bool webp = bytes.size() >= 12 && std::memcmp(bytes.data(), "RIFF", 4) == 0 &&
+                      std::memcmp(bytes.data() + 8, "WEBP", 4) == 0;  // EXT_texture_webp
+    if (!png && !jpeg && !webp)
+      return Status::error("embedded image is neither PNG, JPEG nor WebP");
     return load_texture_from_memory(std::string(bytes.begin(), bytes.end()), "embedded image", opt);
   }
 
@@ -503,6 +577,11 @@ class Reader {
     Material& mat = info.material;
     mat.name = gm.name.empty() ? "material" + std::to_string(index) : gm.name;
     mat.double_sided = gm.doubleSided;
+    // alphaMode (validated: OPAQUE, MASK or BLEND) and alphaCutoff (MASK only, >= 0)
+    mat.alpha_mode = gm.alphaMode == "MASK"    ? AlphaMode::kMask
+                     : gm.alphaMode == "BLEND" ? AlphaMode::kBlend
+                                               : AlphaMode::kOpaque;
+    mat.alpha_cutoff = static_cast<float>(gm.alphaCutoff);
     const auto& bcf = gm.pbrMetallicRoughness.baseColorFactor;
     if (bcf.size() == 4) {
       for (int i = 0; i < 4; ++i) {
@@ -528,12 +607,57 @@ class Reader {
     }
     if (gm.normalTexture.index >= 0) {
       const std::string p = mp + "/normalTexture";
-      if (gm.normalTexture.scale != 1.0)
-        return fail(p + "/scale", "only 1 is supported, got " + fmt(gm.normalTexture.scale));
+      if (!std::isfinite(gm.normalTexture.scale) || std::abs(gm.normalTexture.scale) > 1e6)
+        return fail(p + "/scale", "expected a finite number, got " + fmt(gm.normalTexture.scale));
+      mat.normal_scale = static_cast<float>(gm.normalTexture.scale);
       Result<TexRef> r = tex_ref(gm.normalTexture.index, gm.normalTexture.texCoord,
                                  gm.normalTexture.extensions_json_string, p);
       if (!r.ok()) return r.status();
       slots.push_back({"normal", *r, TexUse::kLinear});
+    }
+    // Emissive, occlusion and unlit (plugins/surface.h finish_surface).
+    if (gm.emissiveFactor.size() == 3) {
+      for (int i = 0; i < 3; ++i) {
+        if (!std::isfinite(gm.emissiveFactor[i]) || gm.emissiveFactor[i] < 0.0 ||
+            gm.emissiveFactor[i] > 1.0)
+          return fail(mp + "/emissiveFactor/" + std::to_string(i), "expected a number in [0, 1]");
+        mat.emissive[i] = static_cast<float>(gm.emissiveFactor[i]);
+      }
+    }
+    if (gm.emissiveTexture.index >= 0) {
+      Result<TexRef> r =
+          tex_ref(gm.emissiveTexture.index, gm.emissiveTexture.texCoord,
+                  gm.emissiveTexture.extensions_json_string, mp + "/emissiveTexture");
+      if (!r.ok()) return r.status();
+      slots.push_back({"emissive", *r, TexUse::kColor});
+    }
+    if (gm.occlusionTexture.index >= 0) {
+      const std::string p = mp + "/occlusionTexture";
+      const double st = gm.occlusionTexture.strength;
+      if (!std::isfinite(st) || st < 0.0 || st > 1.0)
+        return fail(p + "/strength", "expected a number in [0, 1], got " + fmt(st));
+      mat.occlusion_strength = static_cast<float>(st);
+      Result<TexRef> r = tex_ref(gm.occlusionTexture.index, gm.occlusionTexture.texCoord,
+                                 gm.occlusionTexture.extensions_json_string, p);
+      if (!r.ok()) return r.status();
+      slots.push_back({"occlusion", *r, TexUse::kLinear});
+    }
+    {
+      Result<json> es = extension(gm.extensions_json_string, kEmissiveStrength, mp);
+      if (!es.ok()) return es.status();
+      if (!es->is_null()) {
+        const std::string p = mp + "/extensions/" + kEmissiveStrength;
+        RELIEF_RETURN_IF_ERROR(check_keys(*es, p, {"emissiveStrength"}));
+        double strength = 1.0;
+        RELIEF_RETURN_IF_ERROR(get_number(*es, "emissiveStrength", p, strength, 0.0, 1e6));
+        mat.emissive_strength = static_cast<float>(strength);
+      }
+      Result<json> unlit = extension(gm.extensions_json_string, kUnlit, mp);
+      if (!unlit.ok()) return unlit.status();
+      if (!unlit->is_null()) {
+        RELIEF_RETURN_IF_ERROR(check_keys(*unlit, mp + "/extensions/" + kUnlit, {}));
+        mat.unlit = true;
+      }
     }
 
     Result<json> ext = extension(gm.extensions_json_string, kReliefExtension, mp);
@@ -546,12 +670,13 @@ class Reader {
       mat.technique = gm.normalTexture.index >= 0 ? "normal" : "flat";
     } else {
       const json& e = *ext;
-      RELIEF_RETURN_IF_ERROR(
-          check_keys(e, ep,
-                     {"technique", "depth_texture", "depth_is_height", "normal_from_depth",
-                      "cone_texture", "cone_kind", "depth_scale", "steps", "binary_steps",
-                      "self_shadow", "depth_write", "silhouette", "casts_shadow", "receives_shadow",
-                      "specular", "shininess", "max_anisotropy", "params"}));
+      RELIEF_RETURN_IF_ERROR(check_keys(
+          e, ep,
+          {"technique",      "depth_texture",   "depth_is_height",    "normal_from_depth",
+           "cone_texture",   "cone_kind",       "depth_scale",        "steps",
+           "binary_steps",   "self_shadow",     "depth_write",        "silhouette",
+           "casts_shadow",   "receives_shadow", "specular",           "shininess",
+           "max_anisotropy", "params",          "depth_back_texture", "normal_back_texture"}));
       mat.technique = "relief";
       if (e.contains("technique")) {
         if (!e["technique"].is_string() || e["technique"].get<std::string>().empty())
@@ -583,6 +708,17 @@ class Reader {
         Result<TexRef> r = tex_ref_from_json(e["depth_texture"], ep + "/depth_texture");
         if (!r.ok()) return r.status();
         slots.push_back({"depth", *r, depth_is_height ? TexUse::kHeight : TexUse::kDepth});
+      }
+      // relief_dual's back layer: where the object ends (its depth) and its normals.
+      if (e.contains("depth_back_texture")) {
+        Result<TexRef> r = tex_ref_from_json(e["depth_back_texture"], ep + "/depth_back_texture");
+        if (!r.ok()) return r.status();
+        slots.push_back({"depth_back", *r, depth_is_height ? TexUse::kHeight : TexUse::kDepth});
+      }
+      if (e.contains("normal_back_texture")) {
+        Result<TexRef> r = tex_ref_from_json(e["normal_back_texture"], ep + "/normal_back_texture");
+        if (!r.ok()) return r.status();
+        slots.push_back({"normal_back", *r, TexUse::kLinear});
       }
       if (e.contains("cone_texture")) {
         Result<TexRef> r = tex_ref_from_json(e["cone_texture"], ep + "/cone_texture");
@@ -657,26 +793,48 @@ class Reader {
       RELIEF_RETURN_IF_ERROR(check_params(mat, param_pointer));
     }
 
-    // Textures: one sampler and one texture transform per material.
-    const TexRef* first = nullptr;
+    // Textures: one sampler per material; a texture transform per texture. The uv varying is
+    // the main texture's transformed TEXCOORD_0 (the depth map's, else the base colour's, else
+    // the first's); every other texture maps from it (relative_uv_map).
+    std::vector<UvTransform> transforms;
     for (const Slot& s : slots) {
       if (s.ref.index < 0 || s.ref.index >= static_cast<int>(m_.textures.size()))
         return fail(s.ref.pointer + "/index",
                     "texture " + std::to_string(s.ref.index) + " does not exist");
       Result<UvTransform> t = uv_transform(s.ref);
       if (!t.ok()) return t.status();
+      transforms.push_back(*t);
+    }
+    int main_slot = -1;
+    for (const char* name : {"depth", "base_color"})
+      for (size_t i = 0; i < slots.size() && main_slot < 0; ++i)
+        if (slots[i].name == name && transforms[i].tex_coord == 0) main_slot = static_cast<int>(i);
+    for (size_t i = 0; i < slots.size() && main_slot < 0; ++i)
+      if (transforms[i].tex_coord == 0) main_slot = static_cast<int>(i);
+    if (main_slot >= 0) info.uv = transforms[main_slot];
+    const TexRef* first = nullptr;
+    for (size_t i = 0; i < slots.size(); ++i) {
+      const Slot& s = slots[i];
+      const UvTransform* t = &transforms[i];
+      // The relief searches trace in the uv varying's space: the depth and cone maps must be in it.
+      if ((s.name == "depth" || s.use == TexUse::kCone) && (t->tex_coord != 0 || !(*t == info.uv)))
+        return fail(s.ref.pointer, std::string("the depth and cone maps need TEXCOORD_0 and the ") +
+                                       "same texture transform (relief traces in their uv space)");
+      const UvMap map = relative_uv_map(*t, info.uv);
+      if (t->tex_coord == 1) info.needs_uv1 = s.ref.pointer;
+      if (s.name == "emissive")
+        mat.emissive_uv = map;
+      else if (s.name == "occlusion")
+        mat.occlusion_uv = map;
+      else if (!map.identity)
+        mat.uv_maps[s.name] = map;
       bool mipmapped = true;
       Result<SamplerState> smp = sampler_of(s.ref, mipmapped);
       if (!smp.ok()) return smp.status();
       if (!first) {
         first = &s.ref;
-        info.uv = *t;
         mat.sampler = *smp;
       } else {
-        if (!(*t == info.uv))
-          return fail(s.ref.pointer, std::string("texture transform differs from that of ") +
-                                         first->pointer +
-                                         " (relief applies one transform per material)");
         const SamplerState& a = mat.sampler;
         if (a.filter != smp->filter || a.wrap_u != smp->wrap_u || a.wrap_v != smp->wrap_v)
           return fail(s.ref.pointer, std::string("sampler differs from that of ") + first->pointer +
@@ -684,7 +842,12 @@ class Reader {
       }
       Result<TexturePtr> tex = texture(s.ref, s.use, mipmapped);
       if (!tex.ok()) return tex.status();
-      mat.textures[s.name] = *tex;
+      if (s.name == "emissive")
+        mat.emissive_texture = *tex;
+      else if (s.name == "occlusion")
+        mat.occlusion_texture = *tex;
+      else
+        mat.textures[s.name] = *tex;
     }
     if (max_aniso > 1) {
       mat.sampler.filter = Filter::kAnisotropic;
@@ -825,21 +988,36 @@ class Reader {
   }
 
   // Reads a float attribute: VEC<comps> of FLOAT (or normalised unsigned bytes / shorts where
-  // allowed), every value finite.
+  // allowed), every value finite. POSITION, NORMAL, TANGENT and TEXCOORD_n (the last token of
+  // `where`) take the component types glTF lists for them, KHR_mesh_quantization's too when the
+  // file uses it (gltf_decode.h); quantized normals and tangents are renormalized.
   template <int N>
   Status read_attr(int index, const std::string& where, bool allow_normalized,
                    std::vector<glm::vec<N, float>>& out) const {
     Result<View> v = view(index, where);
     if (!v.ok()) return v.status();
-    const bool ok_type =
-        v->comps == N && !(v->ctype != kFloat && !(allow_normalized && v->normalized &&
-                                                   (v->ctype == kUByte || v->ctype == kUShort)));
-    if (!ok_type || m_.accessors[index].type != N)
-      return fail(where, "accessor " + std::to_string(index) + " is " +
-                             type_name(m_.accessors[index].type) + " of " +
-                             component_name(v->ctype) + ", expected VEC" + std::to_string(N) +
-                             " of FLOAT" +
-                             (allow_normalized ? " (or normalized UNSIGNED_BYTE/SHORT)" : ""));
+    const std::string semantic = where.substr(where.rfind('/') + 1);
+    const bool target = where.find("/targets/") != std::string::npos;
+    const std::vector<int> allowed =
+        attribute_component_types(semantic, target, uses_extension(kMeshQuantization));
+    const int signed_ctype = v->normalized ? -v->ctype : v->ctype;
+    const bool ok_ctype =
+        allowed.empty() ? !(v->ctype != kFloat && !(allow_normalized && v->normalized &&
+                                                    (v->ctype == kUByte || v->ctype == kUShort)))
+                        : std::find(allowed.begin(), allowed.end(), signed_ctype) != allowed.end();
+    if (!ok_ctype || v->comps != N || m_.accessors[index].type != N)
+      return fail(where,
+                  "accessor " + std::to_string(index) + " is " +
+                      type_name(m_.accessors[index].type) + " of " +
+                      (v->normalized ? "normalized " : "") + component_name(v->ctype) +
+                      ", expected VEC" + std::to_string(N) + " of " +
+                      (allowed.empty()
+                           ? std::string("FLOAT") +
+                                 (allow_normalized ? " (or normalized UNSIGNED_BYTE/SHORT)" : "")
+                           : component_types_text(allowed)) +
+                      (!allowed.empty() && !uses_extension(kMeshQuantization)
+                           ? " (other types need KHR_mesh_quantization)"
+                           : ""));
     const int csize = tinygltf::GetComponentSizeInBytes(static_cast<uint32_t>(v->ctype));
     out.resize(v->count);
     for (size_t i = 0; i < v->count; ++i) {
@@ -852,7 +1030,19 @@ class Reader {
         out[i][c] = f;
       }
     }
+    if constexpr (N >= 3) {
+      if (v->ctype != kFloat && !target && (semantic == "NORMAL" || semantic == "TANGENT"))
+        for (glm::vec<N, float>& e : out) {
+          const float len = std::sqrt(e[0] * e[0] + e[1] * e[1] + e[2] * e[2]);
+          if (len > 0.0f)
+            for (int c = 0; c < 3; ++c) e[c] /= len;
+        }
+    }
     return {};
+  }
+  bool uses_extension(const char* name) const {
+    return std::find(m_.extensionsUsed.begin(), m_.extensionsUsed.end(), name) !=
+           m_.extensionsUsed.end();
   }
 
   Status read_indices(int index, const std::string& where, std::vector<uint32_t>& out) const {
@@ -922,9 +1112,31 @@ class Reader {
       RELIEF_RETURN_IF_ERROR(read_attr<2>(attr("TEXCOORD_0"), ap + "/TEXCOORD_0", true, out.uvs));
       RELIEF_RETURN_IF_ERROR(same_count("TEXCOORD_0", out.uvs.size()));
     }
+    if (attr("TEXCOORD_1") >= 0) {
+      RELIEF_RETURN_IF_ERROR(read_attr<2>(attr("TEXCOORD_1"), ap + "/TEXCOORD_1", true, out.uvs1));
+      RELIEF_RETURN_IF_ERROR(same_count("TEXCOORD_1", out.uvs1.size()));
+    }
+    if (material_index >= 0 && !materials_[material_index].needs_uv1.empty() && out.uvs1.empty())
+      return fail(
+          ap, "no TEXCOORD_1 attribute, which " + materials_[material_index].needs_uv1 + " reads");
+    if (attr("COLOR_0") >= 0) {
+      const int ci = attr("COLOR_0");
+      const std::string cp = ap + "/COLOR_0";
+      if (ci < static_cast<int>(m_.accessors.size()) && m_.accessors[ci].type == 3) {
+        std::vector<glm::vec3> rgb;
+        RELIEF_RETURN_IF_ERROR(read_attr<3>(ci, cp, true, rgb));
+        out.colors.reserve(rgb.size());
+        for (const glm::vec3& c : rgb) out.colors.push_back(glm::vec4(c, 1.0f));
+      } else {
+        RELIEF_RETURN_IF_ERROR(read_attr<4>(ci, cp, true, out.colors));
+      }
+      RELIEF_RETURN_IF_ERROR(same_count("COLOR_0", out.colors.size()));
+    }
     if (attr("TANGENT") >= 0) {
       RELIEF_RETURN_IF_ERROR(read_attr<4>(attr("TANGENT"), ap + "/TANGENT", false, out.tangents));
       RELIEF_RETURN_IF_ERROR(same_count("TANGENT", out.tangents.size()));
+      // glTF's bitangent w * cross(N, T) points to the image top (-v); ours points along +v
+      for (glm::vec4& t : out.tangents) t.w = -t.w;
     }
     if (p.indices >= 0) {
       RELIEF_RETURN_IF_ERROR(read_indices(p.indices, pp + "/indices", out.indices));
@@ -1186,6 +1398,7 @@ class Reader {
     if (li >= static_cast<int>(m_.lights.size()))
       return fail(ep + "/light", "light " + std::to_string(li) + " does not exist");
     const tinygltf::Light& gl = m_.lights[li];
+    glm::dvec3 direction_hint(0.0);
     const std::string lp =
         std::string("/extensions/") + kLightsPunctual + "/lights/" + std::to_string(li);
     Light l;
@@ -1226,19 +1439,66 @@ class Reader {
     if (!rext.ok()) return rext.status();
     if (!rext->is_null()) {
       const std::string rp = lp + "/extensions/" + kReliefExtension;
-      RELIEF_RETURN_IF_ERROR(check_keys(*rext, rp, {"casts_shadows", "shadow_resolution"}));
+      RELIEF_RETURN_IF_ERROR(check_keys(
+          *rext, rp, {"casts_shadows", "shadow_resolution", "direction", "color", "intensity"}));
       RELIEF_RETURN_IF_ERROR(get_bool(*rext, "casts_shadows", rp, l.casts_shadows));
       RELIEF_RETURN_IF_ERROR(
           get_int(*rext, "shadow_resolution", rp, l.shadow_resolution, 16, 16384));
+      RELIEF_RETURN_IF_ERROR(get_vec<3>(*rext, "direction", rp, direction_hint, -2.0, 2.0));
+      // The colour and intensity as relief had them (glTF's colour lies in [0, 1]), kept while
+      // their product is the file's.
+      glm::dvec3 color(-1.0);
+      double intensity = -1.0;
+      RELIEF_RETURN_IF_ERROR(get_vec<3>(*rext, "color", rp, color, 0.0, 1e30));
+      RELIEF_RETURN_IF_ERROR(get_number(*rext, "intensity", rp, intensity, 0.0, 1e30));
+      if (color.x >= 0.0 && intensity >= 0.0) {
+        const glm::dvec3 want = glm::dvec3(l.color) * double(l.intensity);
+        const glm::dvec3 got = color * intensity;
+        if (glm::length(got - want) <= 1e-6 * glm::length(want)) {
+          l.color = glm::vec3(color);
+          l.intensity = static_cast<float>(intensity);
+        }
+      }
     }
     l.position = glm::vec3(world * glm::dvec4(0, 0, 0, 1));
     l.direction = glm::vec3(glm::normalize(glm::dmat3(world) * glm::dvec3(0, 0, -1)));
+    // Our export's exact direction bits, kept while the node still points that way.
+    if (glm::length(direction_hint) > 0.0 &&
+        glm::dot(glm::normalize(direction_hint), glm::normalize(glm::dvec3(l.direction))) >
+            1.0 - 1e-9)
+      l.direction = glm::vec3(direction_hint);
     light_nodes_.push_back({node, static_cast<int>(scene_.lights.size())});
     scene_.lights.push_back(l);
     return {};
   }
 
   // ---- cameras ----
+  // Our export's exact target and up (the camera node's RELIEF_relief_mapping), kept while the
+  // node still looks that way (view direction and roll within 1e-9 of the node's).
+  Status camera_hint(const CameraNode& cn, Camera& c) const {
+    const std::string np = "/nodes/" + std::to_string(cn.node);
+    Result<json> ext = extension(m_.nodes[cn.node].extensions_json_string, kReliefExtension, np);
+    if (!ext.ok()) return ext.status();
+    if (ext->is_null()) return {};
+    const std::string ep = np + "/extensions/" + kReliefExtension;
+    RELIEF_RETURN_IF_ERROR(check_keys(*ext, ep, {"target", "up"}));
+    glm::dvec3 target(c.target), up(c.up);
+    RELIEF_RETURN_IF_ERROR(get_vec<3>(*ext, "target", ep, target, -1e30, 1e30));
+    RELIEF_RETURN_IF_ERROR(get_vec<3>(*ext, "up", ep, up, -1e30, 1e30));
+    const glm::dmat3 rot(cn.world);
+    const glm::dvec3 fwd = glm::normalize(rot * glm::dvec3(0, 0, -1));
+    const glm::dvec3 node_side = glm::normalize(glm::cross(fwd, rot * glm::dvec3(0, 1, 0)));
+    const glm::dvec3 to = glm::dvec3(glm::vec3(target)) - glm::dvec3(c.position);
+    const glm::dvec3 side = glm::cross(fwd, glm::dvec3(glm::vec3(up)));
+    if (glm::length(to) > 0.0 && glm::length(side) > 0.0 &&
+        glm::dot(glm::normalize(to), fwd) > 1.0 - 1e-9 &&
+        glm::dot(glm::normalize(side), node_side) > 1.0 - 1e-9) {
+      c.target = glm::vec3(target);
+      c.up = glm::vec3(up);
+    }
+    return {};
+  }
+
   Status place_cameras() {
     glm::dvec3 lo, hi;
     scene_bounds(scene_, lo, hi);
@@ -1298,6 +1558,7 @@ class Reader {
       c.znear = static_cast<float>(znear);
       c.zfar = static_cast<float>(zfar);
       orient_camera(c, cn.world, centre);
+      RELIEF_RETURN_IF_ERROR(camera_hint(cn, c));
       camera_nodes_bound_.push_back({cn.node, static_cast<int>(scene_.cameras.size())});
       scene_.cameras.push_back(c);
     }
@@ -1418,6 +1679,9 @@ class Reader {
     for (size_t c = 0; c < ga.channels.size(); ++c) {
       const tinygltf::AnimationChannel& gc = ga.channels[c];
       const std::string cp = ap + "/channels/" + std::to_string(c);
+      // KHR_animation_pointer's channels (path "pointer", no node): ignored with a warning line
+      // (scene/gltf_extensions.h), the rest of the animation plays.
+      if (gc.target_path == "pointer" && gc.target_node < 0) continue;
       AnimationChannel ch;
       ch.node = gc.target_node;
       ch.sampler = gc.sampler;
@@ -1812,19 +2076,42 @@ Result<Scene> load_gltf(const std::string& path, const GltfLoadOptions& options)
   loader.SetImageLoader(keep_image_bytes, &model);
   loader.SetStoreOriginalJSONForExtrasAndExtensions(true);
   std::string err, warn;
-  const auto length = static_cast<unsigned int>(bytes->size());
+  // Compressed data tinygltf cannot read is hidden from it, then decoded (gltf_decode.h).
+  std::string rewritten;
+  if (std::optional<std::string> j = tinygltf_json(json_text))
+    rewritten = glb ? glb_with_json(*bytes, *j) : std::move(*j);
+  const std::string& handed = rewritten.empty() ? *bytes : rewritten;
+  if (handed.size() > std::numeric_limits<unsigned int>::max())
+    return Status::error(shown + ": file is larger than 4 GiB");
+  const auto length = static_cast<unsigned int>(handed.size());
   bool ok = false;
   if (glb)
     ok = loader.LoadBinaryFromMemory(&model, &err, &warn,
-                                     reinterpret_cast<const unsigned char*>(bytes->data()), length,
+                                     reinterpret_cast<const unsigned char*>(handed.data()), length,
                                      base_dir);
   else
-    ok = loader.LoadASCIIFromString(&model, &err, &warn, bytes->data(), length, base_dir);
+    ok = loader.LoadASCIIFromString(&model, &err, &warn, handed.data(), length, base_dir);
   if (!ok)
     return Status::error(shown + ": " + (err.empty() ? "cannot parse" : tinygltf_message(err)));
+  RELIEF_RETURN_IF_ERROR(decode_compressed(model, shown));
   Reader reader(path, model);
   reader.set_scene_folder(scene_fs.folder);
-  return reader.read();
+  Result<Scene> scene = reader.read();
+  if (!scene.ok()) return scene;
+  // What relief ignores (scene/gltf_extensions.h): printed only for a scene that loads, so an
+  // error stays the only line; --strict makes the first one the error.
+  const json doc = json::parse(json_text, nullptr, false);
+  std::vector<GltfIgnored> ignored = find_ignored_features(doc);
+  for (const GltfIgnored& g : ignored)
+    if (g.warn && (g.refused || options.strict))
+      return Status::error(ignored_line(shown, g) + (g.refused ? "" : " (--strict)"));
+  if (options.ignored) {
+    *options.ignored = std::move(ignored);
+  } else {
+    for (const GltfIgnored& g : ignored)
+      if (g.warn) std::fprintf(stderr, "relief: warning: %s\n", ignored_line(shown, g).c_str());
+  }
+  return scene;
 }
 
 // ---- writing ----
@@ -1840,6 +2127,10 @@ ojson vec_json(const float* v, int n) {
   ojson a = ojson::array();
   for (int i = 0; i < n; ++i) a.push_back(shortest(v[i]));
   return a;
+}
+
+bool is_float_format(TexFormat f) {
+  return f == TexFormat::kR16F || f == TexFormat::kRGBA16F || f == TexFormat::kR32F;
 }
 
 // A double-precision quaternion (x, y, z, w) rotating -z onto `dir`.
@@ -1877,8 +2168,13 @@ class Writer {
     root_ext["background"] = vec_json(&s_.background[0], 4);
     doc_["extensions"][kReliefExtension] = root_ext;
     if (!lights_json_.empty()) doc_["extensions"][kLightsPunctual] = {{"lights", lights_json_}};
-    ojson scene_nodes = ojson::array();
-    for (size_t i = 0; i < nodes_.size(); ++i) scene_nodes.push_back(i);
+    ojson scene_nodes = ojson::array();  // the roots
+    std::set<size_t> children;
+    for (const ojson& n : nodes_)
+      if (n.contains("children"))
+        for (const ojson& c : n["children"]) children.insert(c.get<size_t>());
+    for (size_t i = 0; i < nodes_.size(); ++i)
+      if (!children.count(i)) scene_nodes.push_back(i);
     doc_["scene"] = 0;
     doc_["scenes"] = ojson::array({{{"name", s_.name}, {"nodes", scene_nodes}}});
     doc_["nodes"] = nodes_;
@@ -1976,13 +2272,40 @@ class Writer {
         ch = 1;
         type = OIIO::TypeDesc::UINT16;
         break;
-      default:
-        return fail(what + ": only 8-bit and R16 textures can be written as PNG");
+      default:  // float: a 16-bit preview of [0, 1] (relief reads the exact texels: "texels")
+        ch = format_channels(t.format());
+        type = OIIO::TypeDesc::UINT16;
+        break;
     }
     const std::vector<uint8_t>& src = t.level(0).data;
     const size_t n = static_cast<size_t>(t.width()) * t.height();
     std::vector<uint8_t> px = src;
-    if (ch == 4) {  // drop an opaque alpha channel
+    if (is_float_format(t.format())) {
+      px.assign(n * ch * 2, 0);
+      for (int y = 0; y < t.height(); ++y)
+        for (int x = 0; x < t.width(); ++x) {
+          const glm::vec4 v = t.fetch(0, x, y);
+          for (int c = 0; c < ch; ++c) {
+            const float f = std::isfinite(v[c]) ? std::clamp(v[c], 0.0f, 1.0f) : 0.0f;
+            const auto u = static_cast<uint16_t>(std::lround(f * 65535.0f));
+            std::memcpy(&px[((static_cast<size_t>(y) * t.width() + x) * ch + c) * 2], &u, 2);
+          }
+        }
+      if (ch == 4) {  // an opaque alpha channel is left out, as for 8-bit
+        bool opaque = true;
+        for (size_t i = 0; i < n && opaque; ++i) {
+          uint16_t a;
+          std::memcpy(&a, &px[(i * 4 + 3) * 2], 2);
+          opaque = a == 65535;
+        }
+        if (opaque) {
+          std::vector<uint8_t> rgb(n * 6);
+          for (size_t i = 0; i < n; ++i) std::memcpy(&rgb[i * 6], &px[i * 8], 6);
+          px = std::move(rgb);
+          ch = 3;
+        }
+      }
+    } else if (ch == 4) {  // drop an opaque alpha channel
       bool opaque = true;
       for (size_t i = 0; i < n && opaque; ++i) opaque = src[i * 4 + 3] == 255;
       if (opaque) {
@@ -2031,14 +2354,17 @@ class Writer {
     return index;
   }
 
-  int sampler_for(const SamplerState& s) {
+  // `mips`: the material's textures have mip chains (without, a minFilter that builds none, so
+  // the reloaded textures have the same levels).
+  int sampler_for(const SamplerState& s, bool mips) {
     const int key = static_cast<int>(s.filter) * 100 + static_cast<int>(s.wrap_u) * 10 +
-                    static_cast<int>(s.wrap_v);
+                    static_cast<int>(s.wrap_v) + (mips ? 0 : 1000);
     if (auto it = samplers_.find(key); it != samplers_.end()) return it->second;
     auto wrap = [](Wrap w) {
       return w == Wrap::kClamp ? kClampToEdge : w == Wrap::kMirror ? kMirroredRepeat : kRepeat;
     };
-    const int min = s.filter == Filter::kNearest    ? kNearestMipNearest
+    const int min = !mips ? (s.filter == Filter::kNearest ? kNearest : kLinear)
+                    : s.filter == Filter::kNearest  ? kNearestMipNearest
                     : s.filter == Filter::kBilinear ? kLinearMipNearest
                                                     : kLinearMipLinear;
     doc_["samplers"].push_back({{"magFilter", s.filter == Filter::kNearest ? kNearest : kLinear},
@@ -2050,22 +2376,65 @@ class Writer {
     return index;
   }
 
-  Result<ojson> texture_info(const Material& m, const TexturePtr& t, const std::string& label) {
+  // A textureInfo for texture t whose UvMap (from the uv varying) is `map`: its transform is map
+  // composed with the material's main one (uv_scale, uv_offset) on TEXCOORD_0, map itself on
+  // TEXCOORD_1, written as KHR_texture_transform offset, rotation and scale.
+  Result<ojson> texture_info(const Material& m, const TexturePtr& t, const std::string& label,
+                             const UvMap& map = UvMap()) {
     Result<int> img = image_for(t, label);
     if (!img.ok()) return img.status();
     // (ordered_json keeps members in a vector: no reference into doc_ across an insertion)
-    const int sampler = sampler_for(m.sampler);
+    bool mips = false;
+    for (const auto& [slot, other] : m.textures) mips = mips || other->levels() > 1;
+    const int sampler = sampler_for(m.sampler, mips);
     ojson tex = {{"sampler", sampler}, {"source", *img}};
+    if (is_float_format(t->format())) {
+      // Float texels exactly, level 0, little-endian (the PNG is a 16-bit preview for others).
+      if (!raw_views_.count(t.get())) {
+        const std::vector<uint8_t>& d = t->level(0).data;
+        raw_views_[t.get()] = add_view(d.data(), d.size(), 0);
+      }
+      tex["extensions"][kReliefExtension] = {{"texels", raw_views_[t.get()]},
+                                             {"format", format_name(t->format())},
+                                             {"width", t->width()},
+                                             {"height", t->height()}};
+    }
     doc_["textures"].push_back(tex);
     ojson info = {{"index", doc_["textures"].size() - 1}};
-    if (m.uv_scale != glm::vec2(1.0f) || m.uv_offset != glm::vec2(0.0f)) {
+    if (map.set == 1) info["texCoord"] = 1;
+    glm::vec2 offset = m.uv_offset, scale = m.uv_scale;
+    float rotation = 0.0f;
+    if (!map.identity) {
+      glm::dmat2 l(glm::dvec2(map.col0), glm::dvec2(map.col1));
+      glm::dvec2 o(map.offset);
+      if (map.set == 0) {
+        o = l * glm::dvec2(m.uv_offset) + o;
+        l = l * glm::dmat2(glm::dvec2(m.uv_scale.x, 0.0), glm::dvec2(0.0, m.uv_scale.y));
+      }
+      // l = R S with columns (c sx, -s sx), (s sy, c sy) (KHR_texture_transform's order)
+      const double sx = glm::length(l[0]);
+      const double th = std::atan2(-l[0].y, l[0].x);
+      const glm::dvec2 r1(std::sin(th), std::cos(th));
+      const double sy = glm::dot(l[1], r1);
+      if (sx == 0.0 || glm::length(l[1] - sy * r1) > 1e-6 * (std::abs(sy) + sx))
+        return fail("material '" + label + "': a texture transform with shear has no glTF form");
+      offset = glm::vec2(o);
+      scale = glm::vec2(static_cast<float>(sx), static_cast<float>(sy));
+      rotation = static_cast<float>(th);
+    }
+    if (scale != glm::vec2(1.0f) || offset != glm::vec2(0.0f) || rotation != 0.0f) {
       ojson tt = ojson::object();
-      if (m.uv_offset != glm::vec2(0.0f)) tt["offset"] = vec_json(&m.uv_offset[0], 2);
-      if (m.uv_scale != glm::vec2(1.0f)) tt["scale"] = vec_json(&m.uv_scale[0], 2);
+      if (offset != glm::vec2(0.0f)) tt["offset"] = vec_json(&offset[0], 2);
+      if (rotation != 0.0f) tt["rotation"] = shortest(rotation);
+      if (scale != glm::vec2(1.0f)) tt["scale"] = vec_json(&scale[0], 2);
       info["extensions"][kTextureTransform] = tt;
       used_.insert(kTextureTransform);
     }
     return info;
+  }
+  static UvMap slot_map(const Material& m, const std::string& slot) {
+    auto it = m.uv_maps.find(slot);
+    return it == m.uv_maps.end() ? UvMap() : it->second;
   }
 
   static bool same_texture(const Texture& a, const Texture& b) {
@@ -2082,18 +2451,25 @@ class Writer {
       const Material& m = s_.materials[i];
       const std::string label = m.name.empty() ? "material" + std::to_string(i) : m.name;
       for (const auto& [slot, tex] : m.textures)
-        if (slot != "base_color" && slot != "normal" && slot != "depth" &&
-            slot.rfind("cone_", 0) != 0)
+        if (slot != "base_color" && slot != "normal" && slot != "depth" && slot != "depth_back" &&
+            slot != "normal_back" && slot.rfind("cone_", 0) != 0)
           return fail("material '" + label + "': texture slot '" + slot + "' has no glTF form");
       ojson gm = {{"name", m.name}};
       ojson pbr = {{"baseColorFactor", vec_json(&m.base_color[0], 4)}, {"metallicFactor", 0.0}};
       if (auto it = m.textures.find("base_color"); it != m.textures.end()) {
-        Result<ojson> ti = texture_info(m, it->second, label + "_base_color");
+        Result<ojson> ti =
+            texture_info(m, it->second, label + "_base_color", slot_map(m, "base_color"));
         if (!ti.ok()) return ti.status();
         pbr["baseColorTexture"] = *ti;
       }
       gm["pbrMetallicRoughness"] = pbr;
       if (m.double_sided) gm["doubleSided"] = true;
+      if (m.alpha_mode == AlphaMode::kMask) {
+        gm["alphaMode"] = "MASK";
+        if (m.alpha_cutoff != 0.5f) gm["alphaCutoff"] = m.alpha_cutoff;
+      } else if (m.alpha_mode == AlphaMode::kBlend) {
+        gm["alphaMode"] = "BLEND";
+      }
       ojson e = {{"technique", m.technique}};
       auto depth = m.textures.find("depth");
       auto normal = m.textures.find("normal");
@@ -2104,13 +2480,45 @@ class Writer {
         e["depth_texture"] = *ti;
         if (!write_normal)
           e["normal_from_depth"] = false;
-        else if (same_texture(*normal->second, derived_normal_map(m, *depth->second)))
+        else if (m.normal_scale == 1.0f && !m.uv_maps.count("normal") &&
+                 same_texture(*normal->second, derived_normal_map(m, *depth->second)))
           write_normal = false;  // load_gltf derives the same map
       }
       if (write_normal) {
-        Result<ojson> ti = texture_info(m, normal->second, label + "_normal");
+        Result<ojson> ti =
+            texture_info(m, normal->second, label + "_normal", slot_map(m, "normal"));
         if (!ti.ok()) return ti.status();
         gm["normalTexture"] = *ti;
+        if (m.normal_scale != 1.0f) gm["normalTexture"]["scale"] = shortest(m.normal_scale);
+      }
+      // relief_dual's back layer (docs/scene-format.md, "depth_back_texture").
+      for (const char* slot : {"depth_back", "normal_back"})
+        if (auto it = m.textures.find(slot); it != m.textures.end()) {
+          Result<ojson> ti = texture_info(m, it->second, label + "_" + slot, slot_map(m, slot));
+          if (!ti.ok()) return ti.status();
+          e[std::string(slot) + "_texture"] = *ti;
+        }
+      // emissive, occlusion, unlit (what read_material reads)
+      if (m.emissive != glm::vec3(0.0f)) gm["emissiveFactor"] = vec_json(&m.emissive[0], 3);
+      if (m.emissive_texture) {
+        Result<ojson> ti = texture_info(m, m.emissive_texture, label + "_emissive", m.emissive_uv);
+        if (!ti.ok()) return ti.status();
+        gm["emissiveTexture"] = *ti;
+      }
+      if (m.emissive_strength != 1.0f) {
+        gm["extensions"][kEmissiveStrength] = {{"emissiveStrength", shortest(m.emissive_strength)}};
+        used_.insert(kEmissiveStrength);
+      }
+      if (m.occlusion_texture) {
+        Result<ojson> ti =
+            texture_info(m, m.occlusion_texture, label + "_occlusion", m.occlusion_uv);
+        if (!ti.ok()) return ti.status();
+        if (m.occlusion_strength != 1.0f) (*ti)["strength"] = shortest(m.occlusion_strength);
+        gm["occlusionTexture"] = *ti;
+      }
+      if (m.unlit) {
+        gm["extensions"][kUnlit] = ojson::object();
+        used_.insert(kUnlit);
       }
       for (const auto& [slot, tex] : m.textures) {
         if (slot.rfind("cone_", 0) != 0) continue;
@@ -2145,28 +2553,43 @@ class Writer {
     return {};
   }
 
+  // A primitive of `mesh` with `material`: its attributes and indices as accessors.
+  ojson primitive_json(const Mesh& mesh, int material) {
+    ojson attrs = {{"POSITION", add_accessor<3>(mesh.positions, true)}};
+    if (mesh.normals.size() == mesh.positions.size())
+      attrs["NORMAL"] = add_accessor<3>(mesh.normals, false);
+    if (mesh.uvs.size() == mesh.positions.size())
+      attrs["TEXCOORD_0"] = add_accessor<2>(mesh.uvs, false);
+    if (mesh.uvs1.size() == mesh.positions.size())
+      attrs["TEXCOORD_1"] = add_accessor<2>(mesh.uvs1, false);
+    if (mesh.colors.size() == mesh.positions.size())
+      attrs["COLOR_0"] = add_accessor<4>(mesh.colors, false);
+    if (mesh.tangents.size() == mesh.positions.size()) {
+      // the file's bitangent points to the image top (-v), ours along +v: w negated
+      std::vector<glm::vec4> tangents = mesh.tangents;
+      for (glm::vec4& t : tangents) t.w = -t.w;
+      attrs["TANGENT"] = add_accessor<4>(tangents, false);
+    }
+    const size_t iv = add_view(mesh.indices.data(), mesh.indices.size() * sizeof(uint32_t), 34963);
+    accessors_.push_back({{"bufferView", iv},
+                          {"componentType", kUInt},
+                          {"count", mesh.indices.size()},
+                          {"type", "SCALAR"}});
+    return {{"attributes", attrs}, {"indices", accessors_.size() - 1}, {"material", material}};
+  }
+
   void write_meshes_and_nodes() {
-    std::map<std::pair<int, int>, size_t> gmesh;  // (mesh, material) -> glTF mesh
     doc_["meshes"] = ojson::array();
+    if (s_.animation) {
+      write_animated_nodes();
+      return;
+    }
+    std::map<std::pair<int, int>, size_t> gmesh;  // (mesh, material) -> glTF mesh
     for (const Instance& inst : s_.instances) {
       const auto key = std::make_pair(inst.mesh, inst.material);
       if (!gmesh.count(key)) {
         const Mesh& mesh = s_.meshes[inst.mesh];
-        ojson attrs = {{"POSITION", add_accessor<3>(mesh.positions, true)}};
-        if (mesh.normals.size() == mesh.positions.size())
-          attrs["NORMAL"] = add_accessor<3>(mesh.normals, false);
-        if (mesh.uvs.size() == mesh.positions.size())
-          attrs["TEXCOORD_0"] = add_accessor<2>(mesh.uvs, false);
-        if (mesh.tangents.size() == mesh.positions.size())
-          attrs["TANGENT"] = add_accessor<4>(mesh.tangents, false);
-        const size_t iv =
-            add_view(mesh.indices.data(), mesh.indices.size() * sizeof(uint32_t), 34963);
-        accessors_.push_back({{"bufferView", iv},
-                              {"componentType", kUInt},
-                              {"count", mesh.indices.size()},
-                              {"type", "SCALAR"}});
-        ojson prim = {
-            {"attributes", attrs}, {"indices", accessors_.size() - 1}, {"material", inst.material}};
+        ojson prim = primitive_json(mesh, inst.material);
         doc_["meshes"].push_back({{"name", mesh.name}, {"primitives", ojson::array({prim})}});
         gmesh[key] = doc_["meshes"].size() - 1;
       }
@@ -2177,8 +2600,186 @@ class Writer {
     }
   }
 
+  // A float array as an accessor (animation keys, inverse bind matrices, morph deltas).
+  size_t add_floats(const float* v, size_t count, const char* type, int width, bool bounds,
+                    int target = 0) {
+    const size_t view = add_view(v, count * width * sizeof(float), target);
+    ojson a = {{"bufferView", view}, {"componentType", kFloat}, {"count", count}, {"type", type}};
+    if (bounds && count > 0) {
+      std::vector<float> lo(v, v + width), hi(v, v + width);
+      for (size_t i = 0; i < count; ++i)
+        for (int c = 0; c < width; ++c) {
+          lo[c] = std::min(lo[c], v[i * width + c]);
+          hi[c] = std::max(hi[c], v[i * width + c]);
+        }
+      a["min"] = vec_json(lo.data(), width);
+      a["max"] = vec_json(hi.data(), width);
+    }
+    accessors_.push_back(a);
+    return accessors_.size() - 1;
+  }
+
+  static ojson doubles_json(const double* v, int n) {
+    ojson a = ojson::array();
+    for (int i = 0; i < n; ++i) a.push_back(v[i]);
+    return a;
+  }
+
+  // The node bound to entry `index` of `bindings` (an animated scene's instance, camera, light),
+  // or -1.
+  static int bound_node(const std::vector<NodeBinding>& bindings, int index) {
+    for (const NodeBinding& b : bindings)
+      if (b.index == index) return b.node;
+    return -1;
+  }
+
+  // An animated scene (Scene::animation): its node hierarchy first (glTF node i = AnimNode i),
+  // instances on the nodes they follow (a node's instances are one mesh's primitives; a deformed
+  // one written from its rest mesh with JOINTS_0 / WEIGHTS_0 and its morph targets), then skins
+  // and animations. Instances no node carries become root nodes, as for a static scene.
+  void write_animated_nodes() {
+    const SceneAnimation& a = *s_.animation;
+    for (const AnimNode& n : a.nodes) {
+      ojson node = ojson::object();
+      if (!n.name.empty()) node["name"] = n.name;
+      if (n.has_matrix) {
+        node["matrix"] = doubles_json(glm::value_ptr(n.matrix), 16);
+      } else {
+        if (n.translation != glm::dvec3(0.0))
+          node["translation"] = doubles_json(&n.translation[0], 3);
+        if (n.rotation != glm::dquat(1.0, 0.0, 0.0, 0.0))
+          node["rotation"] = ojson::array({n.rotation.x, n.rotation.y, n.rotation.z, n.rotation.w});
+        if (n.scale != glm::dvec3(1.0)) node["scale"] = doubles_json(&n.scale[0], 3);
+      }
+      nodes_.push_back(node);
+    }
+    for (size_t i = 0; i < a.nodes.size(); ++i)
+      if (a.nodes[i].parent >= 0) nodes_[a.nodes[i].parent]["children"].push_back(i);
+    // Instances by node, in instance order.
+    std::map<int, std::vector<int>> on_node;
+    for (size_t i = 0; i < s_.instances.size(); ++i) {
+      const int node = bound_node(a.instances, static_cast<int>(i));
+      if (node >= 0 && node < static_cast<int>(a.nodes.size()))
+        on_node[node].push_back(static_cast<int>(i));
+    }
+    for (const auto& [node, insts] : on_node) {
+      ojson prims = ojson::array();
+      int skin = -1;
+      size_t targets = 0;
+      for (int i : insts) {
+        const Instance& inst = s_.instances[i];
+        const Deformer* d = nullptr;
+        for (const Deformer& x : a.deformers)
+          if (x.mesh == inst.mesh && x.node == node) d = &x;
+        ojson prim = primitive_json(d ? d->rest : s_.meshes[inst.mesh], inst.material);
+        if (d && d->skin >= 0) {
+          skin = d->skin;
+          // A joint of weight 0 is written as 0 (glTF: unused influences name joint 0).
+          std::vector<glm::u16vec4> joints = d->joints;
+          for (size_t v = 0; v < joints.size() && v < d->weights.size(); ++v)
+            for (int k = 0; k < 4; ++k)
+              if (d->weights[v][k] == 0.0f) joints[v][k] = 0;
+          const size_t jv = add_view(joints.data(), joints.size() * sizeof(joints[0]), 34962);
+          accessors_.push_back({{"bufferView", jv},
+                                {"componentType", kUShort},
+                                {"count", d->joints.size()},
+                                {"type", "VEC4"}});
+          prim["attributes"]["JOINTS_0"] = accessors_.size() - 1;
+          prim["attributes"]["WEIGHTS_0"] =
+              add_floats(&d->weights[0][0], d->weights.size(), "VEC4", 4, false, 34962);
+        }
+        if (d && !d->targets.empty()) {
+          ojson ts = ojson::array();
+          for (const MorphTarget& t : d->targets) {
+            ojson tj = ojson::object();
+            if (!t.positions.empty())
+              tj["POSITION"] =
+                  add_floats(&t.positions[0][0], t.positions.size(), "VEC3", 3, true, 34962);
+            if (!t.normals.empty())
+              tj["NORMAL"] =
+                  add_floats(&t.normals[0][0], t.normals.size(), "VEC3", 3, false, 34962);
+            if (!t.tangents.empty())
+              tj["TANGENT"] =
+                  add_floats(&t.tangents[0][0], t.tangents.size(), "VEC3", 3, false, 34962);
+            ts.push_back(tj);
+          }
+          prim["targets"] = ts;
+          targets = d->targets.size();
+        }
+        prims.push_back(prim);
+      }
+      ojson mesh = {{"primitives", prims}};
+      if (!a.nodes[node].name.empty()) mesh["name"] = a.nodes[node].name;
+      // Morph weights: the node's (load_gltf keeps the node's, else the mesh's, per node).
+      if (targets > 0 && a.nodes[node].weights.size() == targets) {
+        ojson w = ojson::array();
+        for (float x : a.nodes[node].weights) w.push_back(shortest(x));
+        nodes_[node]["weights"] = w;
+      }
+      doc_["meshes"].push_back(mesh);
+      nodes_[node]["mesh"] = doc_["meshes"].size() - 1;
+      if (skin >= 0) nodes_[node]["skin"] = skin;
+    }
+    for (size_t i = 0; i < s_.instances.size(); ++i) {
+      if (bound_node(a.instances, static_cast<int>(i)) >= 0) continue;
+      const Instance& inst = s_.instances[i];
+      const Mesh& mesh = s_.meshes[inst.mesh];
+      ojson prim = primitive_json(mesh, inst.material);
+      doc_["meshes"].push_back({{"name", mesh.name}, {"primitives", ojson::array({prim})}});
+      ojson node = {{"mesh", doc_["meshes"].size() - 1}};
+      if (inst.transform != glm::mat4(1.0f))
+        node["matrix"] = vec_json(glm::value_ptr(inst.transform), 16);
+      nodes_.push_back(node);
+    }
+    for (const Skin& sk : a.skins) {
+      ojson js = ojson::array();
+      for (int j : sk.joints) js.push_back(j);
+      std::vector<float> ibm;
+      for (const glm::dmat4& m : sk.inverse_bind)
+        for (int k = 0; k < 16; ++k) ibm.push_back(static_cast<float>(glm::value_ptr(m)[k]));
+      doc_["skins"].push_back(
+          {{"joints", js},
+           {"inverseBindMatrices", add_floats(ibm.data(), sk.joints.size(), "MAT4", 16, false)}});
+    }
+    for (const AnimationClip& clip : a.clips) {
+      ojson samplers = ojson::array(), channels = ojson::array();
+      std::map<int, AnimPath> path_of;  // sampler -> the path its channels animate
+      for (const AnimationChannel& c : clip.channels) path_of[c.sampler] = c.path;
+      for (size_t si = 0; si < clip.samplers.size(); ++si) {
+        const AnimationSampler& smp = clip.samplers[si];
+        const size_t input = add_floats(smp.times.data(), smp.times.size(), "SCALAR", 1, true);
+        const AnimPath path = path_of.count(static_cast<int>(si)) ? path_of[static_cast<int>(si)]
+                                                                  : AnimPath::kWeights;
+        const int width = path == AnimPath::kWeights ? 1 : path == AnimPath::kRotation ? 4 : 3;
+        const char* type = width == 1 ? "SCALAR" : width == 4 ? "VEC4" : "VEC3";
+        const size_t output =
+            add_floats(smp.values.data(), smp.values.size() / width, type, width, false);
+        samplers.push_back(
+            {{"input", input},
+             {"output", output},
+             {"interpolation", smp.interpolation == Interpolation::kStep     ? "STEP"
+                               : smp.interpolation == Interpolation::kLinear ? "LINEAR"
+                                                                             : "CUBICSPLINE"}});
+      }
+      for (const AnimationChannel& c : clip.channels) {
+        const char* path = c.path == AnimPath::kTranslation ? "translation"
+                           : c.path == AnimPath::kRotation  ? "rotation"
+                           : c.path == AnimPath::kScale     ? "scale"
+                                                            : "weights";
+        channels.push_back(
+            {{"sampler", c.sampler}, {"target", {{"node", c.node}, {"path", path}}}});
+      }
+      ojson anim = ojson::object();
+      if (!clip.name.empty()) anim["name"] = clip.name;
+      anim["samplers"] = samplers;
+      anim["channels"] = channels;
+      doc_["animations"].push_back(anim);
+    }
+  }
+
   void write_cameras() {
-    for (const Camera& c : s_.cameras) {
+    for (size_t ci = 0; ci < s_.cameras.size(); ++ci) {
+      const Camera& c = s_.cameras[ci];
       ojson gc = {{"name", c.name}};
       if (c.orthographic) {
         gc["type"] = "orthographic";
@@ -2199,15 +2800,26 @@ class Writer {
       const glm::dvec3 side = glm::normalize(glm::cross(f, glm::dvec3(c.up)));
       const glm::dvec3 up = glm::cross(side, f);
       const glm::dquat q = glm::normalize(glm::quat_cast(glm::dmat3(side, up, -f)));
+      // A camera an animation moves stays on its node (which holds its transform).
+      const int bound = s_.animation ? bound_node(s_.animation->cameras, static_cast<int>(ci)) : -1;
+      if (bound >= 0 && bound < static_cast<int>(nodes_.size()) &&
+          !nodes_[bound].contains("camera")) {
+        nodes_[bound]["camera"] = doc_["cameras"].size() - 1;
+        continue;
+      }
+      // target and up exactly (the rotation alone gives them to rounding): load_gltf keeps them.
+      const ojson hint = {{"target", vec_json(&c.target[0], 3)}, {"up", vec_json(&c.up[0], 3)}};
       nodes_.push_back({{"name", c.name},
                         {"camera", doc_["cameras"].size() - 1},
                         {"translation", vec_json(&c.position[0], 3)},
-                        {"rotation", quat_json(q)}});
+                        {"rotation", quat_json(q)},
+                        {"extensions", {{kReliefExtension, hint}}}});
     }
   }
 
   void write_lights() {
-    for (const Light& l : s_.lights) {
+    for (size_t li = 0; li < s_.lights.size(); ++li) {
+      const Light& l = s_.lights[li];
       // glTF colours lie in [0, 1]: a brighter colour moves its scale into the intensity.
       const float peak = std::max({l.color.r, l.color.g, l.color.b});
       const glm::vec3 color = peak > 1.0f ? l.color / peak : l.color;
@@ -2224,7 +2836,22 @@ class Writer {
                       {"outerConeAngle", double(l.outer_cone_deg) * kPi / 180.0}};
       gl["extensions"][kReliefExtension] = {{"casts_shadows", l.casts_shadows},
                                             {"shadow_resolution", l.shadow_resolution}};
+      // The direction's float bits (the node's rotation rounds them) and, when the colour was
+      // rescaled into [0, 1], the colour and intensity as they were: load_gltf keeps them.
+      if (l.type != LightType::kPoint)
+        gl["extensions"][kReliefExtension]["direction"] = vec_json(&l.direction[0], 3);
+      if (peak > 1.0f) {
+        gl["extensions"][kReliefExtension]["color"] = vec_json(&l.color[0], 3);
+        gl["extensions"][kReliefExtension]["intensity"] = shortest(l.intensity);
+      }
       lights_json_.push_back(gl);
+      used_.insert(kLightsPunctual);
+      const int bound = s_.animation ? bound_node(s_.animation->lights, static_cast<int>(li)) : -1;
+      if (bound >= 0 && bound < static_cast<int>(nodes_.size()) &&
+          !nodes_[bound].contains("extensions")) {
+        nodes_[bound]["extensions"][kLightsPunctual] = {{"light", lights_json_.size() - 1}};
+        continue;
+      }
       ojson node = {{"name", l.name}};
       if (l.type != LightType::kDirectional) node["translation"] = vec_json(&l.position[0], 3);
       if (l.type != LightType::kPoint)
@@ -2248,6 +2875,7 @@ class Writer {
   std::vector<uint8_t> bin_;
   std::set<std::string> used_;
   std::map<const Texture*, int> images_;
+  std::map<const Texture*, size_t> raw_views_;  // float texels' buffer views
   std::map<int, int> samplers_;
   std::set<std::string> file_names_;  // PNG names given out
   StagedFiles staged_;                // the .bin, PNGs and .gltf/.glb, renamed at the end

@@ -17,8 +17,10 @@
 #pragma once
 
 #include <string>
+#include <vector>
 
 #include "rasterizer/status.h"
+#include "scene/gltf_extensions.h"
 #include "scene/scene.h"
 
 namespace relief {
@@ -29,6 +31,13 @@ struct GltfLoadOptions {
   // Buffer and image URIs may lead outside the scene file's folder (`..`, symlinks):
   // `--allow-outside-scene-dir`. Schemes, absolute paths and control bytes stay refused.
   bool allow_outside_scene_dir = false;
+  // What the file has that relief does not render (scene/gltf_extensions.h): an extension it
+  // lacks, a material property or sampler setting it ignores, an attribute set it does not read.
+  // Each is one warning line "relief: warning: FILE: POINTER: what" on stderr once the scene has
+  // loaded; with `strict` (`--strict`) the first is the load's error instead.
+  bool strict = false;
+  // When set, the findings go here (warn == true: the ones with a line) instead of stderr.
+  std::vector<GltfIgnored>* ignored = nullptr;
 };
 
 // Loads a .gltf or .glb file. Relief techniques and parameters are checked against the plugin

@@ -12,6 +12,8 @@
 #include <nlohmann/json.hpp>
 
 #include "rasterizer/safe_file.h"
+#include "scene/gltf_decode.h"
+#include "scene/gltf_extensions.h"
 #include "scene/scene.h"
 
 namespace relief {
@@ -77,8 +79,6 @@ namespace {
 
 using json = nlohmann::json;
 
-constexpr const char* kSupported[] = {"RELIEF_relief_mapping", "KHR_texture_transform",
-                                      "KHR_lights_punctual"};
 constexpr double kInf = std::numeric_limits<double>::infinity();
 constexpr double kHalfPi = 1.57079632679489661923;
 constexpr double kMaxIndex = 2147483647.0;
@@ -428,9 +428,7 @@ class Validator {
         out.push_back(name);
       }
     }
-    auto supported = [](const std::string& n) {
-      return std::find(std::begin(kSupported), std::end(kSupported), n) != std::end(kSupported);
-    };
+    auto supported = [](const std::string& n) { return gltf_extension_supported(n); };
     for (size_t i = 0; i < required.size(); ++i) {
       const std::string p = at("/extensionsRequired", i);
       if (std::find(used.begin(), used.end(), required[i]) == used.end())
@@ -444,6 +442,8 @@ class Validator {
 
   Status buffer(const json& b, const std::string& p) {
     RELIEF_RETURN_IF_ERROR(string(b, p, "uri"));
+    if (const json* e = extension(b, kMeshoptCompression))
+      RELIEF_RETURN_IF_ERROR(boolean(*e, at(at(p, "extensions"), kMeshoptCompression), "fallback"));
     RELIEF_RETURN_IF_ERROR(require(b, p, "byteLength"));
     return integer(b, p, "byteLength", 1, 9007199254740992.0);
   }
@@ -463,6 +463,7 @@ class Validator {
                     "expected a multiple of 4 in 4..252, got " + std::to_string(stride));
     }
     RELIEF_RETURN_IF_ERROR(gl_enum(v, p, "target", "buffer view target", {34962, 34963}));
+    RELIEF_RETURN_IF_ERROR(meshopt_view(v, p));
     const double have = item("buffers", buf)["byteLength"].get<double>();
     if (static_cast<double>(offset) + static_cast<double>(length) > have)
       return fail(p, "bytes " + std::to_string(offset) + ".." + std::to_string(offset + length) +
@@ -547,7 +548,93 @@ class Validator {
 
   Status texture(const json& t, const std::string& p) {
     RELIEF_RETURN_IF_ERROR(index(t, p, "sampler", "samplers"));
+    if (const json* w = extension(t, kTextureWebp)) {
+      const std::string wp = at(at(p, "extensions"), kTextureWebp);
+      RELIEF_RETURN_IF_ERROR(require(*w, wp, "source"));
+      RELIEF_RETURN_IF_ERROR(index(*w, wp, "source", "images"));
+    }
     return index(t, p, "source", "images");
+  }
+
+  // ---- compression and quantization (scene/gltf_decode.h) ----
+  const json* extension(const json& o, const char* name) const {
+    const json* e = find(o, "extensions");
+    return e && e->is_object() ? find(*e, name) : nullptr;  // (common() checked it is an object)
+  }
+  bool used(const char* name) const {
+    const json* u = find(doc_, "extensionsUsed");
+    if (!u || !u->is_array()) return false;
+    for (const json& x : *u)
+      if (x.is_string() && x.get_ref<const std::string&>() == name) return true;
+    return false;
+  }
+  // An attribute's accessor has the type and one of the component types glTF lists for its
+  // semantic (KHR_mesh_quantization's too when the file uses it).
+  Status attribute_type(const std::string& semantic, const json& index_json, bool target,
+                        const std::string& p) const {
+    const std::vector<int> allowed =
+        attribute_component_types(semantic, target, used(kMeshQuantization));
+    if (allowed.empty()) return {};
+    const int64_t ai = static_cast<int64_t>(index_json.get<double>());
+    const json& a = item("accessors", ai);
+    const std::string want = semantic == "TANGENT" && !target      ? "VEC4"
+                             : semantic.rfind("TEXCOORD_", 0) == 0 ? "VEC2"
+                                                                   : "VEC3";
+    const int ctype = static_cast<int>(a["componentType"].get<double>());
+    const bool normalized = a.value("normalized", false) == true;
+    const int signed_ctype = normalized ? -ctype : ctype;
+    const std::string have = a["type"].get<std::string>();
+    if (have == want && std::find(allowed.begin(), allowed.end(), signed_ctype) != allowed.end())
+      return {};
+    auto name = [](int c) { return component_types_text({c}); };
+    return fail(p,
+                "accessor " + std::to_string(ai) + " is " + have + " of " + name(signed_ctype) +
+                    ", expected " + want + " of " + component_types_text(allowed) +
+                    (used(kMeshQuantization) ? "" : " (other types need KHR_mesh_quantization)"));
+  }
+  Status meshopt_view(const json& v, const std::string& p) {
+    const json* e = extension(v, kMeshoptCompression);
+    if (!e) return {};
+    const std::string ep = at(at(p, "extensions"), kMeshoptCompression);
+    int64_t buf = 0, offset = 0, length = 0;
+    RELIEF_RETURN_IF_ERROR(require(*e, ep, "buffer"));
+    RELIEF_RETURN_IF_ERROR(index(*e, ep, "buffer", "buffers", &buf));
+    RELIEF_RETURN_IF_ERROR(integer(*e, ep, "byteOffset", 0, 9007199254740992.0, &offset));
+    for (const char* k : {"byteLength", "byteStride", "count"})
+      RELIEF_RETURN_IF_ERROR(require(*e, ep, k));
+    RELIEF_RETURN_IF_ERROR(integer(*e, ep, "byteLength", 1, 9007199254740992.0, &length));
+    RELIEF_RETURN_IF_ERROR(integer(*e, ep, "byteStride", 1, 256));
+    RELIEF_RETURN_IF_ERROR(integer(*e, ep, "count", 1, 9007199254740992.0));
+    RELIEF_RETURN_IF_ERROR(one_of(*e, ep, "mode", {"ATTRIBUTES", "TRIANGLES", "INDICES"}));
+    RELIEF_RETURN_IF_ERROR(
+        one_of(*e, ep, "filter", {"NONE", "OCTAHEDRAL", "QUATERNION", "EXPONENTIAL"}));
+    const double have = item("buffers", buf)["byteLength"].get<double>();
+    if (static_cast<double>(offset) + static_cast<double>(length) > have)
+      return fail(ep, "bytes " + std::to_string(offset) + ".." + std::to_string(offset + length) +
+                          " lie outside their buffer (buffer " + std::to_string(buf) +
+                          ", byteLength " + num(have) + ")");
+    return {};
+  }
+  Status draco_primitive(const json& pr, const std::string& kp) const {
+    const json* e = extension(pr, kDracoCompression);
+    if (!e) return {};
+    const std::string ep = at(at(kp, "extensions"), kDracoCompression);
+    RELIEF_RETURN_IF_ERROR(require(*e, ep, "bufferView"));
+    RELIEF_RETURN_IF_ERROR(index(*e, ep, "bufferView", "bufferViews"));
+    RELIEF_RETURN_IF_ERROR(require(*e, ep, "attributes"));
+    const json& attrs = (*e)["attributes"];
+    const std::string ap = at(ep, "attributes");
+    if (!attrs.is_object() || attrs.empty())
+      return fail(ap, "expected an object of Draco attribute ids, got " + shown(attrs));
+    const json& prim_attrs = pr["attributes"];
+    for (auto it = attrs.begin(); it != attrs.end(); ++it) {
+      if (!integral(*it) || it->get<double>() < 0 || it->get<double>() > kMaxIndex)
+        return fail(at(ap, it.key()), "expected a Draco attribute id, got " + shown(*it));
+      if (!prim_attrs.contains(it.key()))
+        return fail(at(ap, it.key()), "the primitive has no attribute " + shown(json(it.key())));
+    }
+    if (!pr.contains("indices")) return fail(kp, "a Draco-compressed primitive needs 'indices'");
+    return {};
   }
 
   Status texture_info(const json& o, const std::string& p, const char* key, const char* scale_key,
@@ -609,14 +696,22 @@ class Validator {
       if (!pr.is_object()) return fail(kp, "expected an object, got " + shown(pr));
       RELIEF_RETURN_IF_ERROR(common(pr, kp));
       RELIEF_RETURN_IF_ERROR(attributes(pr, kp, true));
+      for (auto a = pr["attributes"].begin(); a != pr["attributes"].end(); ++a)
+        RELIEF_RETURN_IF_ERROR(
+            attribute_type(a.key(), *a, false, at(at(kp, "attributes"), a.key())));
+      RELIEF_RETURN_IF_ERROR(draco_primitive(pr, kp));
       RELIEF_RETURN_IF_ERROR(index(pr, kp, "indices", "accessors"));
       RELIEF_RETURN_IF_ERROR(index(pr, kp, "material", "materials"));
       RELIEF_RETURN_IF_ERROR(integer(pr, kp, "mode", 0, 6));
       if (const json* t = find(pr, "targets")) {
         if (!t->is_array() || t->empty())
           return fail(at(kp, "targets"), "expected a non-empty array of morph targets");
-        for (size_t i = 0; i < t->size(); ++i)
+        for (size_t i = 0; i < t->size(); ++i) {
           RELIEF_RETURN_IF_ERROR(attribute_map((*t)[i], at(at(kp, "targets"), i)));
+          for (auto a = (*t)[i].begin(); a != (*t)[i].end(); ++a)
+            RELIEF_RETURN_IF_ERROR(
+                attribute_type(a.key(), *a, true, at(at(at(kp, "targets"), i), a.key())));
+        }
       }
     }
     return numbers(m, p, "weights", 0, -kInf, kInf);

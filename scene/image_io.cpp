@@ -481,20 +481,25 @@ Result<Image> read_image(const std::string& path) {
 }
 
 Result<std::vector<unsigned char>> encode_image(const std::string& path, const Image& image) {
+  bool opaque = true;
+  for (const glm::vec4& p : image.pixels) opaque = opaque && p.a == 1.0f;
+  return encode_image(path, image, lower_extension(path) == ".exr" ? 4 : (opaque ? 3 : 4), false);
+}
+
+Result<std::vector<unsigned char>> encode_image(const std::string& path, const Image& image,
+                                                int channels, bool premultiplied) {
   const std::string name = printable(path);  // in messages
   if (!image_shape_ok(image.width, image.height, image.pixels.size()))
     return fail(name, "cannot write an empty or malformed image (" + std::to_string(image.width) +
                           "x" + std::to_string(image.height) + ")");
   const std::string ext = lower_extension(path);
   const size_t n = image.pixels.size();
-  bool opaque = true;
-  for (const glm::vec4& p : image.pixels) opaque = opaque && p.a == 1.0f;
+  const int ch = channels == 3 ? 3 : 4;
   if (ext == ".png" || ext == ".tif" || ext == ".tiff") {
     const bool png = ext == ".png";
-    const int ch = opaque ? 3 : 4;
     OIIO::ImageSpec spec(image.width, image.height, ch,
                          png ? OIIO::TypeDesc::UINT8 : OIIO::TypeDesc::UINT16);
-    spec.attribute("oiio:UnassociatedAlpha", 1);
+    spec.attribute("oiio:UnassociatedAlpha", premultiplied && !png ? 0 : 1);
     if (png) {
       spec.attribute("oiio:ColorSpace", "sRGB");
       std::vector<uint8_t> px(n * ch);
@@ -513,11 +518,11 @@ Result<std::vector<unsigned char>> encode_image(const std::string& path, const I
     return encode_pixels(name, "tiff", spec, px.data());
   }
   if (ext == ".exr") {
-    OIIO::ImageSpec spec(image.width, image.height, 4, OIIO::TypeDesc::FLOAT);
-    spec.attribute("oiio:UnassociatedAlpha", 1);
-    std::vector<float> px(n * 4);
+    OIIO::ImageSpec spec(image.width, image.height, ch, OIIO::TypeDesc::FLOAT);
+    spec.attribute("oiio:UnassociatedAlpha", premultiplied ? 0 : 1);
+    std::vector<float> px(n * ch);
     for (size_t i = 0; i < n; ++i)
-      for (int c = 0; c < 4; ++c) px[i * 4 + c] = finite_or_zero(image.pixels[i][c]);
+      for (int c = 0; c < ch; ++c) px[i * ch + c] = finite_or_zero(image.pixels[i][c]);
     return encode_pixels(name, "openexr", spec, px.data());
   }
   return unknown_extension(name, ext);

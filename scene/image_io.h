@@ -73,6 +73,10 @@ Status write_image(const std::string& path, const Image& image);
 // The bytes write_image / write_plane write to `path` (format by its extension), for callers
 // that stage several outputs together (StagedFiles). Errors start with `path`.
 Result<std::vector<unsigned char>> encode_image(const std::string& path, const Image& image);
+// encode_image with the channel count chosen by the caller, not by content: `channels` 3 (RGB,
+// alpha dropped) or 4 (RGBA; `premultiplied` marks an EXR's or TIFF's alpha as associated).
+Result<std::vector<unsigned char>> encode_image(const std::string& path, const Image& image,
+                                                int channels, bool premultiplied);
 Result<std::vector<unsigned char>> encode_plane(const std::string& path, const Plane& plane);
 // OK when `path` ends in an extension write_image and write_plane know (.png .exr .tif .tiff,
 // any case); else a usage error (exit 2) starting with `path`.

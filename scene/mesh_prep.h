@@ -1,16 +1,22 @@
 // Mesh preparation (DESIGN.md, "One frame, as data", step 2): what a relief material needs per
 // vertex beside positions, normals and uv.
 //
-// Tangents, MikkTSpace-compatible in the sense glTF 2.0 asks of clients (Mikkelsen 2008): per
-// triangle dP/du and dP/dv, weighted by the triangle's uv area, summed per vertex (MikkTSpace
-// weights by corner angle; the two agree on smooth meshes, tests/scene/mesh_prep_test.cpp),
-// Gram-Schmidt against the normal; the bitangent sign w = +1
-// or -1 is the handedness of (T, B, N). A vertex whose triangles disagree on the handedness (a
-// mirrored uv seam) is split first, as MikkTSpace does: the copy (every per-vertex array) takes
-// the left-handed triangles, so each side keeps its own sign. Where uv is degenerate (zero uv
-// area, |det| < 1e-20) a triangle contributes nothing, and a sliver (area < 1e-4 of its longest
-// edge squared, e.g. at a pole) does not vote on the handedness; a vertex left with no tangent takes any unit
-// vector perpendicular to its normal, w = +1 (a finite frame).
+// Tangents: MikkTSpace (Mikkelsen 2008, "Simulation of wrinkled surfaces revisited"), the frame
+// glTF 2.0 asks clients to compute, written here from the published algorithm and checked corner
+// by corner against the reference implementation (tests/scene/mikktspace_test.cpp, within 1e-4):
+// vertices equal in position, normal and uv are welded; triangles with two equal positions are
+// degenerate; around each vertex, triangles reachable across shared edges with the same uv
+// orientation form one group, whose tangent is the sum of the triangles' dP/du projected on the
+// vertex normal, normalised and weighted by the corner angle; a triangle with no usable uv
+// derivatives joins the first group that reaches it; a degenerate triangle's corner copies the
+// first good corner at its vertex. Run on the mesh's own uv (no flip): w = +1 where the uv
+// mapping keeps orientation, so B = w cross(N, T) runs along +v (shaders_cpp/frame.h). glTF's
+// TANGENT has the opposite w (scene/gltf.cpp negates it on load and save). Corners of one vertex
+// that get different spaces (a mirrored uv seam, a fan broken by a non-manifold edge) are split:
+// the vertex keeps the first space met in index order, copies (every per-vertex array, appended)
+// take the others; triangle order and count are kept. Where MikkTSpace gives a corner no space
+// (no group reaches it: no usable uv anywhere around it) the tangent is any unit vector
+// perpendicular to the normal, w = +1 (the reference leaves (1, 0, 0), -1 there).
 // Tile scale (quadric paper, section 3.4): per vertex (sx, sy) = the lengths of dP/du and dP/dv
 // in object units, area-weighted over the adjacent triangles; 1 where uv is degenerate.
 #pragma once

@@ -22,6 +22,8 @@ struct Mesh {
   std::vector<glm::vec3> positions;
   std::vector<glm::vec3> normals;
   std::vector<glm::vec2> uvs;
+  std::vector<glm::vec2> uvs1;        // TEXCOORD_1; empty when absent
+  std::vector<glm::vec4> colors;      // COLOR_0 rgba (linear); empty when absent
   std::vector<glm::vec4> tangents;    // xyz tangent, w bitangent sign (B = w * cross(N, T))
   std::vector<glm::vec2> quadric;     // per-vertex (a, b); empty unless a material needs it
   std::vector<glm::vec2> tile_scale;  // per-vertex (sx, sy); empty unless a material needs it
@@ -40,6 +42,20 @@ struct Material {
   float specular = 0.25f;
   float shininess = 32.0f;
   bool double_sided = false;
+  AlphaMode alpha_mode = AlphaMode::kOpaque;  // glTF alphaMode (plugins/plugin.h)
+  float alpha_cutoff = 0.5f;                  // glTF alphaCutoff, MASK only
+  // Per texture slot (and the emissive and occlusion textures): the map from the uv varying (the
+  // main texture's transformed uv, uv_scale/uv_offset above) to the slot's uv; identity if absent.
+  std::map<std::string, UvMap> uv_maps;
+  glm::vec3 emissive{0.0f};        // emissiveFactor
+  float emissive_strength = 1.0f;  // KHR_materials_emissive_strength
+  TexturePtr emissive_texture;     // sRGB
+  UvMap emissive_uv;
+  TexturePtr occlusion_texture;  // red channel
+  UvMap occlusion_uv;
+  float occlusion_strength = 1.0f;
+  float normal_scale = 1.0f;  // normalTexture.scale
+  bool unlit = false;         // KHR_materials_unlit
   // Effects the material asks for; the planner keeps those its plugin supports.
   bool self_shadow = false;
   bool depth_write = false;

@@ -8,6 +8,7 @@ packages=(
   libglm-dev
   libopenimageio-dev openimageio-tools
   libtinygltf-dev nlohmann-json3-dev
+  libmeshoptimizer-dev libdraco-dev  # compressed glTF (scene/gltf_decode.cpp)
   libgtest-dev libgmock-dev libbenchmark-dev
   libcli11-dev
   libepoxy-dev libegl-dev libegl-mesa0 libgl1-mesa-dri libglx-mesa0

@@ -1,6 +1,9 @@
 // Per-fragment tangent frames: interpolated T, B-sign and N re-orthonormalised (Gram-Schmidt),
 // with a finite fallback when the interpolated tangent is zero or parallel to N (degenerate uv),
-// so no NaN ever leaves here.
+// so no NaN ever leaves here. The frame is T along +u and B = sign * cross(N, T) along +v (the
+// relief searches turn a tangent-space ray into a uv step with it); glTF files store the opposite
+// sign (their bitangent points to the image top, -v: scene/gltf.cpp negates it), and normal maps
+// are glTF-convention, green along -B (plugins/surface.h normal_from_texel).
 #pragma once
 
 #include "shaders_cpp/vec.h"

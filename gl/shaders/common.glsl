@@ -7,7 +7,7 @@
 //   uniform FrameUniforms frame        camera and lights of the pass (FrameUniforms)
 //   uniform MaterialUniforms material  params[] in schema order, base colour, specular, shininess
 //   textures[slot], has_texture[slot]  the material's textures by slot index (TextureSlotSpec order)
-//   vary[4]                            the 16 standard varyings (namespace varying)
+//   vary[6]                            the varyings (namespace varying), padded to kCountGl
 // Variant defines (0 or 1): EFFECT_SELF_SHADOW, EFFECT_DEPTH_WRITE, EFFECT_SILHOUETTE,
 // EFFECT_SHADOW_PASS, EFFECT_RECEIVE_SHADOW, RELIEF_WRITES_DEPTH (the variant's DepthOutput is not
 // kNone), RELIEF_AOVS (the pass writes AOVs); optional, 0 when absent: RELIEF_DEPTH_FARTHER (the
@@ -33,7 +33,10 @@ layout(depth_less) out float gl_FragDepth;
 #ifndef RELIEF_MAY_DISCARD
 #define RELIEF_MAY_DISCARD 0
 #endif
-#if !RELIEF_WRITES_DEPTH && !RELIEF_MAY_DISCARD
+#ifndef RELIEF_ALPHA_TEST
+#define RELIEF_ALPHA_TEST 0  // gl_backend.cpp: 1 for MASK materials, which discard below the cutoff
+#endif
+#if !RELIEF_WRITES_DEPTH && !RELIEF_MAY_DISCARD && !RELIEF_ALPHA_TEST
 // The CPU tests depth before shading when the shader writes none (DepthTest::kEarly); GL would
 // run a shader with side effects (the RELIEF_COUNT atomics) before the test, counting fragments
 // the CPU never shades. Not in a twin that discards (it defines RELIEF_MAY_DISCARD 1 before
@@ -60,6 +63,11 @@ const int kUv = 10;
 const int kQuadric = 12;
 const int kTileScale = 14;
 const int kCount = 16;
+// COLOR_0 and TEXCOORD_1 (plugin.h kCountExtended): the GL vertex stream always carries them
+// (colour 1, uv1 0 for meshes without), the CPU planes only for meshes that have them.
+const int kColor = 16;
+const int kUv1 = 20;
+const int kCountGl = 24;  // kCountExtended rounded up to whole vec4 attributes
 
 struct LightUniform {
   int type;
@@ -84,19 +92,44 @@ struct FrameUniforms {
   int height;
 };
 
+// plugins/plugin.h UvMap: uv' = col0 * uv.x + col1 * uv.y + offset from uv (set 0) or uv1 (set 1).
+struct UvMap {
+  vec2 col0;
+  vec2 col1;
+  vec2 offset;
+  int set;
+  bool identity;
+};
+
 struct MaterialUniforms {
   float params[kMaxParams];
   vec4 base_color;
   float specular;
   float shininess;
+  int alpha_mode;  // plugins/plugin.h AlphaMode: kAlphaOpaque, kAlphaMask, kAlphaBlend
+  float alpha_cutoff;
+  // glTF material terms (plugins/plugin.h MaterialUniforms; finish_surface below)
+  UvMap uv_maps[kMaxTextureSlots];
+  vec3 emissive;
+  bool has_emissive_texture;
+  UvMap emissive_uv;
+  bool has_occlusion_texture;
+  UvMap occlusion_uv;
+  float occlusion_strength;
+  float normal_scale;
+  bool unlit;
 };
+const int kAlphaOpaque = 0, kAlphaMask = 1, kAlphaBlend = 2;
 
 uniform FrameUniforms frame;
 uniform MaterialUniforms material;
 layout(binding = 0) uniform sampler2D textures[kMaxTextureSlots];
 uniform bool has_texture[kMaxTextureSlots];
+// Material-wide textures (gl_backend.cpp kEmissiveUnit, kOcclusionUnit).
+layout(binding = 16) uniform sampler2D emissive_texture;
+layout(binding = 17) uniform sampler2D occlusion_texture;
 
-in vec4 vary[4];
+in vec4 vary[6];
 
 layout(location = 0) out vec4 out_color;
 layout(location = 1) out vec4 out_aov0;  // uv.xy, hit_depth, steps
@@ -105,15 +138,15 @@ layout(location = 2) out vec4 out_aov1;  // normal.xyz
 // The CPU rasterizer's interpolation (rasterizer/pipeline.h cpu_triangle_planes): per triangle
 // of the draw a header (offset of its first part, number of parts: the triangles the CPU's setup
 // makes of it after clipping), then per part (x0, y0), its corners in pixels and (c, dx, dy) of
-// the planes depth, 1/w and the 16 varyings times 1/w, evaluated as the CPU does at whole-pixel
+// the planes depth, 1/w and the header's count of varyings (16, or kCountGl with COLOR_0 or
+// TEXCOORD_1: header[2]) times 1/w, evaluated as the CPU does at whole-pixel
 // offsets from (x0, y0), in the same float operations. A pixel of a clipped triangle takes the
 // part whose corners hold its centre (helper pixels: the nearest). tri_base < 0 (warm-up draws)
 // or no part falls back to GL's own interpolation.
 const int kTriangleHeader = 4;
-const int kPartFloats = 8 + (2 + kCount) * 3;
 layout(std430, binding = 3) readonly buffer TrianglePlanesBuffer { float tri_planes[]; };
 uniform int tri_base;
-float exact_vary[kCount];
+float exact_vary[kCountGl];
 float exact_z;
 bool use_exact = false;
 
@@ -125,6 +158,8 @@ void interpolate_like_cpu() {
   int h = (tri_base + gl_PrimitiveID) * kTriangleHeader;
   int first = floatBitsToInt(tri_planes[h]), n = floatBitsToInt(tri_planes[h + 1]);
   if (n <= 0) return;
+  int nv = floatBitsToInt(tri_planes[h + 2]);
+  int kPartFloats = 8 + (2 + nv) * 3;
   int o = first;
   if (n > 1) {
     vec2 pc = floor(gl_FragCoord.xy) + 0.5;
@@ -149,11 +184,12 @@ void interpolate_like_cpu() {
   precise float iw = (tri_planes[o + 3] + tri_planes[o + 4] * fx) + tri_planes[o + 5] * fy;
   iw = iw < 1e-30 ? 1e-30 : iw;  // helper lanes far outside may pass the horizon
   precise float wv = 1.0 / iw;
-  for (int k = 0; k < kCount; ++k) {
+  for (int k = 0; k < nv; ++k) {
     int c = o + 6 + 3 * k;
     precise float v = ((tri_planes[c] + tri_planes[c + 1] * fx) + tri_planes[c + 2] * fy) * wv;
     exact_vary[k] = v;
   }
+  for (int k = nv; k < kCountGl; ++k) exact_vary[k] = k < kUv1 ? 1.0 : 0.0;
   use_exact = true;
 }
 
@@ -177,6 +213,9 @@ struct FragIn {
   vec2 duv_dx, duv_dy;  // per quad (coarse), image-space rows top to bottom
   vec2 quadric;
   vec2 tile_scale;
+  vec4 color;  // vertex colour (COLOR_0), 1 when the mesh has none
+  vec2 uv1;    // TEXCOORD_1, 0 when the mesh has none
+  vec2 duv1_dx, duv1_dy;
   float frag_z;  // polygon depth (reversed-Z)
   bool front_facing;
 };
@@ -223,9 +262,89 @@ FragIn load_fragment() {
   f.duv_dy = fy - (right ? cross_ : vec2(0.0));
   f.quadric = vec2(varying_at(kQuadric), varying_at(kQuadric + 1));
   f.tile_scale = vec2(varying_at(kTileScale), varying_at(kTileScale + 1));
+  f.color = vec4(varying_at(kColor), varying_at(kColor + 1), varying_at(kColor + 2),
+                 varying_at(kColor + 3));
+  f.uv1 = vec2(varying_at(kUv1), varying_at(kUv1 + 1));
+  vec2 fx1 = dFdxFine(f.uv1), fy1 = -dFdyFine(f.uv1), cross1 = -dFdyFine(fx1);
+  f.duv1_dx = fx1 - (bottom ? cross1 : vec2(0.0));
+  f.duv1_dy = fy1 - (right ? cross1 : vec2(0.0));
   f.frag_z = use_exact ? exact_z : gl_FragCoord.z;
   f.front_facing = gl_FrontFacing;
   return f;
+}
+
+// ---- plugins/surface.h: texture coordinates per texture, final colour terms ----
+// map_uv: a texture's coordinates at the varying-space uv (identity: uv itself), derivatives by
+// the map's linear part. Returns uv; dx, dy out.
+vec2 map_uv(UvMap m, vec2 uv, FragIn in_, out vec2 dx, out vec2 dy) {
+  if (m.identity) {
+    dx = in_.duv_dx;
+    dy = in_.duv_dy;
+    return uv;
+  }
+  bool s1 = m.set == 1;
+  vec2 u = s1 ? in_.uv1 : uv;
+  vec2 ux = s1 ? in_.duv1_dx : in_.duv_dx;
+  vec2 uy = s1 ? in_.duv1_dy : in_.duv_dy;
+  dx = m.col0 * ux.x + m.col1 * ux.y;
+  dy = m.col0 * uy.x + m.col1 * uy.y;
+  return (m.col0 * u.x + m.col1 * u.y) + m.offset;
+}
+
+// sample_slot: the texture in `slot` at the varying-space uv through the slot's UvMap.
+vec4 sample_slot(int slot, vec2 uv, FragIn in_) {
+  vec2 dx, dy;
+  vec2 t = map_uv(material.uv_maps[slot], uv, in_, dx, dy);
+  return textureGrad(textures[slot], t, dx, dy);
+}
+
+// finish_surface: `lit` is the lit colour of albedo, or albedo itself when the material is unlit
+// (the twin computes `material.unlit ? albedo : blinn_phong(...)`); occlusion on the ambient
+// term, emissive added.
+vec3 finish_surface(vec3 lit, vec2 uv, vec3 albedo, FragIn in_, inout float fetches) {
+  if (material.unlit) return albedo;
+  vec3 c = lit;
+  vec2 dx, dy;
+  if (material.has_occlusion_texture) {
+    vec2 t = map_uv(material.occlusion_uv, uv, in_, dx, dy);
+    float r = textureGrad(occlusion_texture, t, dx, dy).x;
+    fetches += 1.0;
+    float k = material.occlusion_strength * (r - 1.0);
+    c += albedo * frame.ambient * k;
+  }
+  if (material.emissive != vec3(0.0)) {
+    vec3 e = material.emissive;
+    if (material.has_emissive_texture) {
+      vec2 t = map_uv(material.emissive_uv, uv, in_, dx, dy);
+      e = e * textureGrad(emissive_texture, t, dx, dy).xyz;
+      fetches += 1.0;
+    }
+    c += e;
+  }
+  return c;
+}
+
+// plugins/surface.h sample_alpha: base colour factor alpha x the base colour texture's alpha
+// (slot 0 in every twin) at uv; for passes that need no colour (MASK shadow casters).
+float base_alpha_at(vec2 uv, FragIn in_, inout float fetches) {
+  float a = material.base_color.a;
+  if (has_texture[0]) {
+    a *= sample_slot(0, uv, in_).w;
+    fetches += 1.0;
+  }
+  a *= in_.color.a;  // COLOR_0 (1 when the mesh has none)
+  return a;
+}
+
+// plugins/shading.h resolve_alpha: MASK discards below the cutoff; OPAQUE and MASK write alpha
+// 1, BLEND its alpha in [0, 1] (blended by glBlendFuncSeparate in gl_backend.cpp).
+void resolve_alpha(inout ShadeOut o) {
+  if (material.alpha_mode == kAlphaBlend) {
+    o.alpha = clamp(o.alpha, 0.0, 1.0);
+    return;
+  }
+  if (material.alpha_mode == kAlphaMask && o.alpha < material.alpha_cutoff) o.discarded = true;
+  o.alpha = 1.0;
 }
 
 #if RELIEF_COUNT
@@ -242,6 +361,7 @@ void count_work(uint slot, uint counter, float n) {
 #endif
 
 void store_out(ShadeOut o) {
+  resolve_alpha(o);
 #if RELIEF_COUNT
   uvec2 px = uvec2(gl_FragCoord.xy);
   uint slot = (px.x * 7u + px.y * 61u) % kCounterSlots;
@@ -269,6 +389,13 @@ struct TangentFrame {
 
 vec3 to_tangent(TangentFrame f, vec3 w) { return vec3(dot(w, f.t), dot(w, f.b), dot(w, f.n)); }
 vec3 to_world(TangentFrame f, vec3 v) { return f.t * v.x + f.b * v.y + f.n * v.z; }
+
+// A normal-map texel in the frame's (t, b, n) coordinates (plugins/surface.h normal_from_texel):
+// glTF convention, x along +u, y toward the image top (-v, so along -b), z out; x and y scaled by
+// `strength` (1: the map as is). Not normalised.
+vec3 normal_from_texel(vec4 c, float strength) {
+  return vec3((c.x * 2.0 - 1.0) * strength, -(c.y * 2.0 - 1.0) * strength, c.z * 2.0 - 1.0);
+}
 
 // Any unit vector perpendicular to unit n (Duff et al. 2017).
 vec3 any_perpendicular(vec3 n) {

@@ -25,18 +25,23 @@ ShadeOut shade(FragIn in_) {
   vec3 n = normalize_safe(in_.normal);
   if (!in_.front_facing) n = -n;
   vec3 albedo = material.base_color.rgb;
+  float base_alpha = material.base_color.a;  // x texture alpha (plugins/surface.h)
   if (has_texture[kBaseColorSlot]) {
-    vec4 c = textureGrad(textures[kBaseColorSlot], in_.uv, in_.duv_dx, in_.duv_dy);
+    vec4 c = sample_slot(kBaseColorSlot, in_.uv, in_);
     albedo = albedo * c.xyz;
+    base_alpha *= c.w;
     o.fetches = 1.0;
   }
   vec3 v = frame.orthographic ? -frame.view_dir : normalize_safe(frame.eye - in_.position);
+  albedo = albedo * in_.color.rgb;  // COLOR_0 (plugins/surface.h sample_albedo)
+  base_alpha *= in_.color.a;
   recv_p = in_.position;
   recv_n = n;
   recv_fetches = o.fetches;
-  o.color = blinn_phong(in_.position, n, v, albedo);
+  o.color = material.unlit ? albedo : blinn_phong(in_.position, n, v, albedo);
   o.fetches = recv_fetches;
-  o.alpha = material.base_color.a;
+  o.color = finish_surface(o.color, in_.uv, albedo, in_, o.fetches);
+  o.alpha = base_alpha;
   o.hit_uv = in_.uv;
   o.shading_normal = n;
   return o;

@@ -31,25 +31,30 @@ ShadeOut shade(FragIn in_) {
   TangentFrame tf = make_tangent_frame(geo_n, in_.tangent, in_.tangent_sign);
   vec3 n = tf.n;
   if (has_texture[kNormalSlot]) {
-    vec4 c = textureGrad(textures[kNormalSlot], in_.uv, in_.duv_dx, in_.duv_dy);
-    float strength = material.params[kNormalStrength];
-    vec3 nt = vec3((c.x * 2.0 - 1.0) * strength, (c.y * 2.0 - 1.0) * strength, c.z * 2.0 - 1.0);
+    vec4 c = sample_slot(kNormalSlot, in_.uv, in_);
+    float strength = material.params[kNormalStrength] * material.normal_scale;
+    vec3 nt = normal_from_texel(c, strength);
     n = normalize_safe(to_world(tf, nt));
     o.fetches += 1.0;
   }
   vec3 albedo = material.base_color.rgb;
+  float base_alpha = material.base_color.a;  // x texture alpha (plugins/surface.h)
   if (has_texture[kBaseColorSlot]) {
-    vec4 c = textureGrad(textures[kBaseColorSlot], in_.uv, in_.duv_dx, in_.duv_dy);
+    vec4 c = sample_slot(kBaseColorSlot, in_.uv, in_);
     albedo = albedo * c.xyz;
+    base_alpha *= c.w;
     o.fetches += 1.0;
   }
   vec3 v = frame.orthographic ? -frame.view_dir : normalize_safe(frame.eye - in_.position);
+  albedo = albedo * in_.color.rgb;  // COLOR_0 (plugins/surface.h sample_albedo)
+  base_alpha *= in_.color.a;
   recv_p = in_.position;
   recv_n = tf.n;
   recv_fetches = o.fetches;
-  o.color = blinn_phong(in_.position, n, v, albedo);
+  o.color = material.unlit ? albedo : blinn_phong(in_.position, n, v, albedo);
   o.fetches = recv_fetches;
-  o.alpha = material.base_color.a;
+  o.color = finish_surface(o.color, in_.uv, albedo, in_, o.fetches);
+  o.alpha = base_alpha;
   o.hit_uv = in_.uv;
   o.shading_normal = n;
   return o;

@@ -2,14 +2,15 @@
 // The shared pass-through vertex stage of every GLSL twin. The CPU's prepare_draws
 // (render/render.h) already computed clip positions and the standard varyings
 // (plugins/plugin.h, namespace varying), so both backends interpolate the same numbers:
-// attribute 0 is the clip position, attributes 1..4 the 16 varyings as four vec4.
+// attribute 0 is the clip position, attributes 1..6 the varyings as six vec4 (the 16 standard
+// ones, then COLOR_0 and TEXCOORD_1, padded: gl_backend.cpp kGlVaryings).
 
 layout(location = 0) in vec4 a_clip;
-layout(location = 1) in vec4 a_varyings[4];
+layout(location = 1) in vec4 a_varyings[6];
 
 uniform vec2 viewport_size;
 
-out vec4 vary[4];
+out vec4 vary[6];
 
 void main() {
   vec4 c = a_clip;
@@ -21,5 +22,5 @@ void main() {
     c.xy = vec2(ndc.x * double(c.w), -ndc.y * double(c.w));
   }
   gl_Position = c;
-  for (int i = 0; i < 4; ++i) vary[i] = a_varyings[i];
+  for (int i = 0; i < 6; ++i) vary[i] = a_varyings[i];
 }

@@ -151,12 +151,14 @@ ShadeOut shade(FragIn in_) {
   o.depth = min(reversed_z_depth(frame.view_proj, pos, in_.frag_z), in_.frag_z);
 #endif
 #if EFFECT_SHADOW_PASS
+  // MASK casters cut their shadow by the base colour's alpha at the hit
+  if (material.alpha_mode == kAlphaMask) o.alpha = base_alpha_at(hit.uv, in_, o.fetches);
   return o;
 #else
   vec3 n = tf.n;
   if (has_texture[kNormalSlot]) {
-    vec4 c = textureGrad(textures[kNormalSlot], hit.uv, in_.duv_dx, in_.duv_dy);
-    n = normalize_safe(to_world(tf, vec3(c.x * 2.0 - 1.0, c.y * 2.0 - 1.0, c.z * 2.0 - 1.0)));
+    vec4 c = sample_slot(kNormalSlot, hit.uv, in_);
+    n = normalize_safe(to_world(tf, normal_from_texel(c, material.normal_scale)));
     o.fetches += 1.0;
   }
   if (has_texture[kBackNormalSlot] && has_texture[kDepthSlot]) {
@@ -164,15 +166,17 @@ ShadeOut shade(FragIn in_) {
     float f = sample_depth(depth, hit.uv), b = sample_back(depth, hit.uv);
     bool on_back = abs(b - hit.depth) < abs(hit.depth - f);
     if (on_back) {
-      vec4 c = textureGrad(textures[kBackNormalSlot], hit.uv, in_.duv_dx, in_.duv_dy);
-      n = normalize_safe(to_world(tf, vec3(c.x * 2.0 - 1.0, c.y * 2.0 - 1.0, c.z * 2.0 - 1.0)));
+      vec4 c = sample_slot(kBackNormalSlot, hit.uv, in_);
+      n = normalize_safe(to_world(tf, normal_from_texel(c, material.normal_scale)));
     }
     o.fetches += layer_fetches() + (on_back ? 1.0 : 0.0);
   }
   vec3 albedo = material.base_color.rgb;
+  float base_alpha = material.base_color.a;  // x texture alpha (plugins/surface.h)
   if (has_texture[kBaseColorSlot]) {
-    vec4 c = textureGrad(textures[kBaseColorSlot], hit.uv, in_.duv_dx, in_.duv_dy);
+    vec4 c = sample_slot(kBaseColorSlot, hit.uv, in_);
     albedo = albedo * c.xyz;
+    base_alpha *= c.w;
     o.fetches += 1.0;
   }
   shell_tf = tf;
@@ -182,10 +186,12 @@ ShadeOut shade(FragIn in_) {
   shell_out = o;
   shell_pos = pos;
   shell_n = n;
-  vec3 color = blinn_phong(pos, n, -w, albedo);
+  albedo = albedo * in_.color.rgb;  // COLOR_0 (plugins/surface.h sample_albedo)
+  base_alpha *= in_.color.a;
+  vec3 color = material.unlit ? albedo : blinn_phong(pos, n, -w, albedo);
   o = shell_out;
-  o.color = color;
-  o.alpha = material.base_color.a;
+  o.color = finish_surface(color, hit.uv, albedo, in_, o.fetches);
+  o.alpha = base_alpha;
   o.shading_normal = n;
   return o;
 #endif

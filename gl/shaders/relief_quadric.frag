@@ -87,26 +87,33 @@ ShadeOut shade(FragIn in_) {
   o.depth = min(reversed_z_depth(frame.view_proj, pos, in_.frag_z), in_.frag_z);
 #endif
 #if EFFECT_SHADOW_PASS
+  // MASK casters cut their shadow by the base colour's alpha at the hit
+  if (material.alpha_mode == kAlphaMask) o.alpha = base_alpha_at(hit_uv, in_, o.fetches);
   return o;
 #else
   vec3 n = tf.n;
   if (has_texture[kNormalSlot]) {
-    vec4 c = textureGrad(textures[kNormalSlot], hit_uv, in_.duv_dx, in_.duv_dy);
-    n = normalize_safe(to_world(tf, vec3(c.x * 2.0 - 1.0, c.y * 2.0 - 1.0, c.z * 2.0 - 1.0)));
+    vec4 c = sample_slot(kNormalSlot, hit_uv, in_);
+    n = normalize_safe(to_world(tf, normal_from_texel(c, material.normal_scale)));
     o.fetches += 1.0;
   }
   vec3 albedo = material.base_color.rgb;
+  float base_alpha = material.base_color.a;  // x texture alpha (plugins/surface.h)
   if (has_texture[kBaseColorSlot]) {
-    vec4 c = textureGrad(textures[kBaseColorSlot], hit_uv, in_.duv_dx, in_.duv_dy);
+    vec4 c = sample_slot(kBaseColorSlot, hit_uv, in_);
     albedo = albedo * c.xyz;
+    base_alpha *= c.w;
     o.fetches += 1.0;
   }
+  albedo = albedo * in_.color.rgb;  // COLOR_0 (plugins/surface.h sample_albedo)
+  base_alpha *= in_.color.a;
   recv_p = pos;
   recv_n = n;
   recv_fetches = o.fetches;
-  o.color = blinn_phong(pos, n, -w, albedo);
+  o.color = material.unlit ? albedo : blinn_phong(pos, n, -w, albedo);
   o.fetches = recv_fetches;
-  o.alpha = material.base_color.a;
+  o.color = finish_surface(o.color, hit_uv, albedo, in_, o.fetches);
+  o.alpha = base_alpha;
   o.shading_normal = n;
   return o;
 #endif

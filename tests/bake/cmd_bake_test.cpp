@@ -169,6 +169,28 @@ TEST_F(CmdBake, NormalPngHasTheTextureBytes) {
   EXPECT_EQ(got->level(0).data, want.level(0).data);
 }
 
+TEST_F(CmdBake, NormalConventionDirectXFlipsGreen) {
+  ASSERT_EQ(run(depth_ + " -o " + path("dx.png") + " --normal --normal-convention directx"), 0)
+      << stderr_;
+  Result<Texture> depth = load_texture(depth_, {.first_channel_only = true});
+  const Texture want =
+      normal_map_from_depth(depth.value(), 0.1f, false, NormalConvention::kDirectX);
+  Result<Texture> got = load_texture(path("dx.png"));
+  ASSERT_TRUE(got.ok()) << got.status().message();
+  EXPECT_EQ(got->level(0).data, want.level(0).data);
+  // the default is the glTF one, and the two differ (in green only)
+  ASSERT_EQ(run(depth_ + " -o " + path("gl.png") + " --normal --normal-convention gltf"), 0);
+  Result<Texture> gl = load_texture(path("gl.png"));
+  ASSERT_TRUE(gl.ok());
+  EXPECT_EQ(gl->level(0).data, normal_map_from_depth(depth.value(), 0.1f, false).level(0).data);
+  EXPECT_NE(gl->level(0).data, got->level(0).data);
+  EXPECT_EQ(run(depth_ + " -o " + path("c.exr") + " --cone relaxed --normal-convention directx"),
+            2);
+  expect_one_line_error();
+  EXPECT_NE(stderr_.find("--normal-convention"), std::string::npos) << stderr_;
+  EXPECT_EQ(run(depth_ + " -o " + path("x.png") + " --normal --normal-convention opengl"), 2);
+}
+
 TEST_F(CmdBake, HeightFlagInvertsTheInput) {
   // A height map h baked with --height equals the depth map 1 - h baked without it.
   Plane hmap(8, 8);

@@ -70,6 +70,9 @@ TEST_F(DualBake, WritesTheLayersTheLibraryBakes) {
       EXPECT_EQ(back->at(x, y).r, want.back[i]) << x << "," << y;
       EXPECT_NEAR(fn->at(x, y).b, want.front_normal[i].z * 0.5f + 0.5f, 1e-6f);
       EXPECT_NEAR(bn->at(x, y).b, want.back_normal[i].z * 0.5f + 0.5f, 1e-6f);
+      // green toward the image top (-v, world -y on the quad): the glTF convention
+      EXPECT_NEAR(fn->at(x, y).g, -want.front_normal[i].y * 0.5f + 0.5f, 1e-6f);
+      EXPECT_NEAR(bn->at(x, y).g, -want.back_normal[i].y * 0.5f + 0.5f, 1e-6f);
       present += want.front[i] <= want.back[i] ? 1 : 0;
     }
   EXPECT_GT(present, 32 * 32 / 2);  // the sphere fills most of its box

@@ -28,10 +28,11 @@ glm::vec3 decode8(const Texture& t, int x, int y) {
 
 TEST(NormalMap, RampIsConstantEverywhereWithClamp) {
   // d = 0.3 u + 0.6 v: a plane tilting down along +u and +v; with clamp the one-sided border
-  // differences are exact too, so every texel has the same normal.
+  // differences are exact too, so every texel has the same normal. glTF convention: green is the
+  // component toward the image top (-v).
   const float s = 0.25f;
   Texture depth = depth_from(40, 24, [](float u, float v) { return 0.3f * u + 0.6f * v; });
-  const glm::vec3 want = glm::normalize(glm::vec3(s * 0.3f, s * 0.6f, 1.0f));
+  const glm::vec3 want = glm::normalize(glm::vec3(s * 0.3f, -s * 0.6f, 1.0f));
   Texture nf = normal_map_from_depth_float(depth, s, /*wrap=*/false);
   Texture n8 = normal_map_from_depth(depth, s, /*wrap=*/false);
   ASSERT_EQ(n8.format(), TexFormat::kRGBA8);
@@ -60,7 +61,10 @@ TEST(NormalMap, SignsFollowTangentFrame) {
   EXPECT_GT(a.x, 0.5f);
   EXPECT_NEAR(a.y, 0.0f, 1e-6f);
   EXPECT_NEAR(b.x, 0.0f, 1e-6f);
-  EXPECT_LT(b.y, -0.5f);
+  EXPECT_GT(b.y, 0.5f);  // leans towards -v, the image top: glTF's green is +
+  EXPECT_LT(
+      normal_map_from_depth_float(dv, 1.0f, false, NormalConvention::kDirectX).fetch(0, 8, 8).y,
+      -0.5f);
   EXPECT_GT(a.z, 0.0f);
   EXPECT_GT(b.z, 0.0f);
 }
@@ -77,7 +81,8 @@ TEST(NormalMap, ParaboloidMatchesAnalyticGradient) {
   for (int y = 1; y < h - 1; ++y)
     for (int x = 1; x < w - 1; ++x) {
       const float u = (x + 0.5f) / w, v = (y + 0.5f) / h;
-      glm::vec3 want = glm::normalize(glm::vec3(s * 2 * c * (u - 0.5f), s * 2 * c * (v - 0.5f), 1));
+      glm::vec3 want =
+          glm::normalize(glm::vec3(s * 2 * c * (u - 0.5f), -s * 2 * c * (v - 0.5f), 1));
       glm::vec4 f = nf.fetch(0, x, y);
       EXPECT_NEAR(f.x, want.x, 2e-3f) << x << "," << y;
       EXPECT_NEAR(f.y, want.y, 2e-3f) << x << "," << y;
@@ -130,9 +135,25 @@ TEST(NormalMap, FlatAndOneTexelMaps) {
   Texture line = depth_from(1, 5, [](float, float v) { return v; });
   glm::vec4 f = normal_map_from_depth_float(line, 1.0f, false).fetch(0, 0, 2);
   EXPECT_EQ(f.x, 0.0f);  // one texel wide: no slope along u
-  // d = v over 5 texels: dd/dv = 1, n = normalize(0, 1, 1).
-  EXPECT_NEAR(f.y, std::sqrt(0.5f), 2e-3f);
+  // d = v over 5 texels: dd/dv = 1, n = normalize(0, 1, 1) in (u, v, n); green is -n_v (glTF).
+  EXPECT_NEAR(f.y, -std::sqrt(0.5f), 2e-3f);
   EXPECT_NEAR(f.z, std::sqrt(0.5f), 2e-3f);
+}
+
+TEST(NormalMap, DirectXConventionFlipsGreenOnly) {
+  Texture depth = depth_from(12, 10, [](float u, float v) { return 0.5f * u * u + 0.7f * v * u; });
+  const Texture gl = normal_map_from_depth(depth, 0.3f, true);
+  const Texture dx = normal_map_from_depth(depth, 0.3f, true, NormalConvention::kDirectX);
+  const Texture glf = normal_map_from_depth_float(depth, 0.3f, true);
+  const Texture dxf = normal_map_from_depth_float(depth, 0.3f, true, NormalConvention::kDirectX);
+  for (int y = 0; y < 10; ++y)
+    for (int x = 0; x < 12; ++x) {
+      const glm::vec3 a = decode8(gl, x, y), b = decode8(dx, x, y);
+      EXPECT_NEAR(a.x, b.x, 1e-6f);
+      EXPECT_NEAR(a.y, -b.y, 1.5f / 255.0f);
+      EXPECT_NEAR(a.z, b.z, 1e-6f);
+      EXPECT_EQ(glf.fetch(0, x, y).y, -dxf.fetch(0, x, y).y);
+    }
 }
 
 }  // namespace
