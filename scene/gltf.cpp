@@ -382,11 +382,21 @@ class Reader {
       return fail(ep + "/texels",
                   "buffer view " + std::to_string(view) + " lies outside its buffer");
     const uint8_t* src = m_.buffers[bv.buffer].data.data() + bv.byteOffset;
-    for (size_t i = 0; format == TexFormat::kR32F && i < bytes; i += 4) {
-      float v;
-      std::memcpy(&v, src + i, 4);
-      if (!std::isfinite(v))
-        return fail(ep + "/texels", "texel " + std::to_string(i / 4) + " is not finite");
+    // every value finite: a float's exponent below all ones, a half's (bits 10-14) likewise
+    const size_t value_bytes = format == TexFormat::kR32F ? 4 : 2;
+    for (size_t i = 0; i < bytes; i += value_bytes) {
+      bool finite;
+      if (value_bytes == 4) {
+        float v;
+        std::memcpy(&v, src + i, 4);
+        finite = std::isfinite(v);
+      } else {
+        uint16_t h16;
+        std::memcpy(&h16, src + i, 2);
+        finite = (h16 & 0x7C00u) != 0x7C00u;
+      }
+      if (!finite)
+        return fail(ep + "/texels", "value " + std::to_string(i / value_bytes) + " is not finite");
     }
     Texture t(format, w, h, src, use == TexUse::kColor ? ColorSpace::kSRGB : ColorSpace::kLinear);
     if (mipmapped) t.generate_mips(use == TexUse::kCone ? MipReduce::kMin : MipReduce::kAverage);

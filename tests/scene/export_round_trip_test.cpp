@@ -3,8 +3,11 @@
 // own files use nothing relief ignores).
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstring>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <string>
 #include <vector>
 
@@ -13,6 +16,8 @@
 #include "scene/builtin.h"
 #include "scene/gltf.h"
 #include "tests/test_dir.h"
+
+#include <nlohmann/json.hpp>
 
 namespace relief {
 namespace {
@@ -99,6 +104,55 @@ TEST_P(ExportRoundTrip, RendersBitIdenticalToTheBuiltin) {
       EXPECT_FALSE(moved_depth) << "the animation moves nothing at t = " << t;
     }
   }
+}
+
+// The exact float texels of an export (impostor: R32F depth, RGBA16F normals) are checked on load:
+// a non-finite float or half anywhere is one error line naming the texture, for every format the
+// export uses.
+TEST(ExportTexels, NonFiniteExactTexelsAreRefused) {
+  Result<Scene> builtin = make_builtin_scene("impostor");
+  ASSERT_TRUE(builtin.ok());
+  const fs::path dir = test::fresh_test_dir("export_texels");
+  const std::string gltf = (dir / "i.gltf").string();
+  ASSERT_TRUE(save_gltf(*builtin, gltf).ok());
+  std::ifstream in(gltf);
+  const nlohmann::json doc = nlohmann::json::parse(in);
+  int checked = 0;
+  for (size_t t = 0; t < doc["textures"].size(); ++t) {
+    const nlohmann::json& tex = doc["textures"][t];
+    if (!tex.contains("extensions") || !tex["extensions"].contains("RELIEF_relief_mapping"))
+      continue;
+    const nlohmann::json& e = tex["extensions"]["RELIEF_relief_mapping"];
+    const std::string format = e["format"];
+    const nlohmann::json& view = doc["bufferViews"][e["texels"].get<int>()];
+    const std::string bin =
+        (dir / doc["buffers"][view["buffer"].get<int>()]["uri"].get<std::string>()).string();
+    std::ifstream bf(bin, std::ios::binary);
+    std::vector<char> bytes((std::istreambuf_iterator<char>(bf)), {});
+    const std::vector<char> saved = bytes;
+    // the last value of the view: +inf as a float or a half (little-endian)
+    const size_t end = view.value("byteOffset", size_t{0}) + view["byteLength"].get<size_t>();
+    if (format == "R32F") {
+      const float inf = INFINITY;
+      std::memcpy(&bytes[end - 4], &inf, 4);
+    } else {
+      bytes[end - 2] = 0x00;
+      bytes[end - 1] = 0x7C;
+    }
+    std::ofstream(bin, std::ios::binary)
+        .write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+    Result<Scene> loaded = load_gltf(gltf);
+    ASSERT_FALSE(loaded.ok()) << format;
+    EXPECT_NE(loaded.status().message().find("is not finite"), std::string::npos)
+        << loaded.status().message();
+    EXPECT_NE(loaded.status().message().find("/textures/" + std::to_string(t)), std::string::npos)
+        << loaded.status().message();
+    std::ofstream(bin, std::ios::binary)
+        .write(saved.data(), static_cast<std::streamsize>(saved.size()));
+    ++checked;
+  }
+  EXPECT_GE(checked, 2);  // a float and a half format at least
+  EXPECT_TRUE(load_gltf(gltf).ok());
 }
 
 INSTANTIATE_TEST_SUITE_P(Builtins, ExportRoundTrip, ::testing::ValuesIn(builtin_names()),
