@@ -830,6 +830,14 @@ class Reader {
       if ((s.name == "depth" || s.use == TexUse::kCone) && (t->tex_coord != 0 || !(*t == info.uv)))
         return fail(s.ref.pointer, std::string("the depth and cone maps need TEXCOORD_0 and the ") +
                                        "same texture transform (relief traces in their uv space)");
+      // Another texture on TEXCOORD_0 maps from the main one through its inverse: a singular
+      // main transform (a zero scale) has none.
+      const glm::dmat2 main_linear = info.uv.linear();
+      if (t->tex_coord == 0 && !(*t == info.uv) &&
+          !(std::fabs(glm::determinant(main_linear)) > 1e-12))
+        return fail(slots[main_slot].ref.pointer,
+                    "KHR_texture_transform scale is singular (zero), so another texture's own "
+                    "transform cannot be mapped from it");
       const UvMap map = relative_uv_map(*t, info.uv);
       if (t->tex_coord == 1) info.needs_uv1 = s.ref.pointer;
       if (s.name == "emissive")

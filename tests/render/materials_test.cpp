@@ -283,6 +283,28 @@ TEST(Materials, EachTextureHasItsOwnTextureTransform) {
   EXPECT_EQ(texel_index({0.25f, 0.25f}, base_off, 0.0f, glm::vec2(1)).x, 1);
 }
 
+// A zero scale on the main texture (the uv varying's) leaves no inverse to map another texture's
+// own transform from: one error line naming the main texture, not a NaN uv in the image.
+TEST(Materials, SingularMainTextureTransformIsRefused) {
+  const auto dir = test::fresh_test_dir("materials_singular");
+  json tt_base = {{"KHR_texture_transform", {{"scale", {0.0, 1.0}}}}};
+  json tt_em = {{"KHR_texture_transform", {{"offset", {0.0, 1.0}}}}};
+  json m = {
+      {"pbrMetallicRoughness", {{"baseColorTexture", {{"index", 0}, {"extensions", tt_base}}}}},
+      {"emissiveTexture", {{"index", 1}, {"extensions", tt_em}}},
+      {"emissiveFactor", {0.25, 0.25, 0.25}}};
+  MaterialDoc d = material_quad(dir, m, 1.0f, 0.0f);
+  test::use_extension(d, "KHR_texture_transform");
+  d.texture("base", kQuad);
+  d.texture("emissive", kGreys);
+  Result<Scene> s = load_gltf(d.write("singular"));
+  ASSERT_FALSE(s.ok());
+  EXPECT_NE(s.status().message().find("singular"), std::string::npos) << s.status().message();
+  EXPECT_NE(s.status().message().find("/materials/0/pbrMetallicRoughness/baseColorTexture"),
+            std::string::npos)
+      << s.status().message();
+}
+
 TEST(Materials, ExportKeepsTheMaterialFeatures) {
   const auto dir = test::fresh_test_dir("materials_export");
   json tt_em = {{"KHR_texture_transform", {{"offset", {0.0, 1.0}}, {"rotation", 1.5707963}}}};
