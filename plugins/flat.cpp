@@ -10,8 +10,10 @@ enum FlatSlot { kBaseColorSlot = 0 };
 
 const TextureSlotSpec kSlots[] = {kBaseColorSlotSpec};
 
-template <bool kReceive> struct FlatKernel {
-  template <class F> static ShadeOut<F> shade(const ShadeContext& ctx, const FragIn<F>& in) {
+template <bool kReceive>
+struct FlatKernel {
+  template <class F>
+  static ShadeOut<F> shade(const ShadeContext& ctx, const FragIn<F>& in) {
     const MaterialUniforms& m = *ctx.material;
     ShadeOut<F> o;
     V3<F> n = normalize(in.normal);
@@ -31,13 +33,26 @@ ShadeFn select_flat(EffectMask e) {
   return (e & kEffectReceiveShadow) ? &shade_packet<FlatKernel<true>>
                                     : &shade_packet<FlatKernel<false>>;
 }
-DepthOutput depth_flat(EffectMask) { return DepthOutput::kNone; }
+DepthOutput depth_flat(EffectMask) {
+  return DepthOutput::kNone;
+}
 
 }  // namespace
 
 const PluginDescriptor kFlatPlugin = {
-    kPluginAbiVersion, "flat", "Lambert and Blinn-Phong over the interpolated normal (no relief)",
-    nullptr, 0, kSlots, 1, kEffectReceiveShadow, &select_flat, &depth_flat, nullptr, nullptr, nullptr,
+    kPluginAbiVersion,
+    "flat",
+    "Lambert and Blinn-Phong over the interpolated normal (no relief)",
+    nullptr,
+    0,
+    kSlots,
+    1,
+    kEffectReceiveShadow,
+    &select_flat,
+    &depth_flat,
+    nullptr,
+    nullptr,
+    nullptr,
 };
 
 }  // namespace relief

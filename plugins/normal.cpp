@@ -15,8 +15,10 @@ const ParamSpec kParams[] = {
      "scales the map's x and y before renormalising (0 = flat)"},
 };
 
-template <bool kReceive> struct NormalKernel {
-  template <class F> static ShadeOut<F> shade(const ShadeContext& ctx, const FragIn<F>& in) {
+template <bool kReceive>
+struct NormalKernel {
+  template <class F>
+  static ShadeOut<F> shade(const ShadeContext& ctx, const FragIn<F>& in) {
     const MaterialUniforms& m = *ctx.material;
     ShadeOut<F> o;
     const TangentFrame<F> tf = fragment_frame(in);
@@ -37,13 +39,26 @@ ShadeFn select_normal(EffectMask e) {
   return (e & kEffectReceiveShadow) ? &shade_packet<NormalKernel<true>>
                                     : &shade_packet<NormalKernel<false>>;
 }
-DepthOutput depth_normal(EffectMask) { return DepthOutput::kNone; }
+DepthOutput depth_normal(EffectMask) {
+  return DepthOutput::kNone;
+}
 
 }  // namespace
 
 const PluginDescriptor kNormalPlugin = {
-    kPluginAbiVersion, "normal", "tangent-space normal mapping, no parallax (Blinn 1978)",
-    kParams, 1, kSlots, 2, kEffectReceiveShadow, &select_normal, &depth_normal, nullptr, nullptr, nullptr,
+    kPluginAbiVersion,
+    "normal",
+    "tangent-space normal mapping, no parallax (Blinn 1978)",
+    kParams,
+    1,
+    kSlots,
+    2,
+    kEffectReceiveShadow,
+    &select_normal,
+    &depth_normal,
+    nullptr,
+    nullptr,
+    nullptr,
 };
 
 }  // namespace relief

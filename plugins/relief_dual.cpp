@@ -64,7 +64,7 @@ struct DualKernel {
     ShadeOut<F> o;
     const ShellView<F> view = shell_view(ctx, in);
     const TangentFrame<F>& tf = view.tf;
-    const V3<F>& w = view.w, &V = view.V;
+    const V3<F>&w = view.w, &V = view.V;
     const F depth_scale(m.params[kDepthScaleParam]);
     const V2<F> ds = texture_step(V, depth_scale);
     const mask_t<F> active = covered_lanes(in);

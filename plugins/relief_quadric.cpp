@@ -10,10 +10,10 @@
 // texture-space entry point for a shadow ray), so there is no self_shadow effect.
 // `search=relaxed_cone` replaces the linear + binary search with relaxed cone stepping on the
 // deformed field, a bracket-safe fallback (`fallback_steps`) and halvings of the last bracket,
-// all on the material's filtered depth (shaders_cpp/quadric.h, quadric_relaxed_cone_search); the relaxed cone map of slot 3 is baked from the depth map only
-// when that search is chosen (reads_texture).
-// Shares with the relief shell (plugins/relief_shell.h) the tangent frame, the per-quad depth
-// LOD, the normal and colour maps and the lights.
+// all on the material's filtered depth (shaders_cpp/quadric.h, quadric_relaxed_cone_search); the
+// relaxed cone map of slot 3 is baked from the depth map only when that search is chosen
+// (reads_texture). Shares with the relief shell (plugins/relief_shell.h) the tangent frame, the
+// per-quad depth LOD, the normal and colour maps and the lights.
 #include "plugins/builtin.h"
 #include "plugins/cone_shell.h"
 #include "plugins/relief_shell.h"
@@ -47,12 +47,16 @@ const ParamSpec kParams[] = {
      "relaxed cone steps (search=relaxed_cone; GPU Gems 3 ch. 18 uses 15)"},
     kConeFallbackStepsSpec,  // search=relaxed_cone
 };
-const TextureSlotSpec kSlots[] = {kBaseColorSlotSpec, kNormalSlotSpec, kDepthSlotSpec,
+const TextureSlotSpec kSlots[] = {kBaseColorSlotSpec,
+                                  kNormalSlotSpec,
+                                  kDepthSlotSpec,
                                   {"cone_relaxed", false,
                                    "relaxed cone map for search=relaxed_cone (baked from depth "
                                    "if absent)"}};
 
-bool relaxed_search(const float* params) { return params[kSearchParam] >= 0.5f; }
+bool relaxed_search(const float* params) {
+  return params[kSearchParam] >= 0.5f;
+}
 bool reads_texture(const float* params, int slot) {
   return slot != kConeSlot || relaxed_search(params);
 }
@@ -76,7 +80,7 @@ struct QuadricKernel {
     ShadeOut<F> o;
     const ShellView<F> view = shell_view(ctx, in);
     const TangentFrame<F>& tf = view.tf;
-    const V3<F>& w = view.w, &V = view.V;
+    const V3<F>&w = view.w, &V = view.V;
     const F depth_scale(m.params[kDepthScaleParam]);
     const mask_t<F> active = covered_lanes(in);
     const TextureDepth depth = material_depth(m, in);
@@ -93,12 +97,10 @@ struct QuadricKernel {
       QuadricHit<F> h;
       if (relaxed_search(p) && make_cone_source(ctx, depth, cone)) {
         const V2<F> duv(ray.dir.x, ray.dir.y);
-        const F view_floor =
-            half_texel_along(depth.texture->width(), depth.texture->height(), duv);
-        h = quadric_relaxed_cone_search<kD>(depth, cone, in.uv, ray,
-                                            static_cast<int>(p[kConeStepsParam]),
-                                            static_cast<int>(p[kFallbackStepsParam]), m_steps,
-                                            view_floor, active);
+        const F view_floor = half_texel_along(depth.texture->width(), depth.texture->height(), duv);
+        h = quadric_relaxed_cone_search<kD>(
+            depth, cone, in.uv, ray, static_cast<int>(p[kConeStepsParam]),
+            static_cast<int>(p[kFallbackStepsParam]), m_steps, view_floor, active);
       } else {
         const F n = relief_step_count(V.z, p[kMinSteps], p[kSteps]);
         h = quadric_search<kD>(depth, in.uv, ray, n, m_steps, active);

@@ -40,19 +40,38 @@ inline constexpr TextureSlotSpec kDepthSlotSpec = {
 inline constexpr TextureSlotSpec kReliefSlots[] = {kBaseColorSlotSpec, kNormalSlotSpec,
                                                    kDepthSlotSpec};
 
-inline constexpr ParamSpec kDepthScaleSpec = {"depth_scale", ParamType::kFloat, 0.05f, 0.0f, 1.0f,
-                                              nullptr, "relief height in uv units"};
+inline constexpr ParamSpec kDepthScaleSpec = {
+    "depth_scale", ParamType::kFloat, 0.05f, 0.0f, 1.0f, nullptr, "relief height in uv units"};
 // The search parameters of the linear + binary family (relief, pom, relief_dual, relief_quadric).
-inline constexpr ParamSpec kLinearStepsSpec = {"steps", ParamType::kInt, 32.0f, 1.0f, 256.0f,
-                                               nullptr, "linear search steps at grazing angles"};
-inline constexpr ParamSpec kBinaryStepsSpec = {"binary_steps", ParamType::kInt, 8.0f, 0.0f, 32.0f,
+inline constexpr ParamSpec kLinearStepsSpec = {"steps",
+                                               ParamType::kInt,
+                                               32.0f,
+                                               1.0f,
+                                               256.0f,
+                                               nullptr,
+                                               "linear search steps at grazing angles"};
+inline constexpr ParamSpec kBinaryStepsSpec = {"binary_steps",
+                                               ParamType::kInt,
+                                               8.0f,
+                                               0.0f,
+                                               32.0f,
                                                nullptr,
                                                "binary search halvings after the linear search"};
 inline constexpr ParamSpec kMinStepsSpec = {
-    "min_steps", ParamType::kInt, 8.0f, 1.0f, 256.0f, nullptr,
+    "min_steps",
+    ParamType::kInt,
+    8.0f,
+    1.0f,
+    256.0f,
+    nullptr,
     "linear steps facing the surface (steps at grazing angles; mixed by |V.z|)"};
 inline constexpr ParamSpec kShadowStepsSpec = {
-    "shadow_steps", ParamType::kInt, 32.0f, 1.0f, 256.0f, nullptr,
+    "shadow_steps",
+    ParamType::kInt,
+    32.0f,
+    1.0f,
+    256.0f,
+    nullptr,
     "self-shadow ray steps over the full depth (self_shadow effect)"};
 
 // The schema of the linear + binary search with a marched self-shadow ray (relief, relief_dual):
@@ -64,7 +83,8 @@ inline constexpr ParamSpec kParams[] = {kLinearStepsSpec, kBinaryStepsSpec, kMin
 }  // namespace relief_schema
 
 // Lanes of this group that are real, covered fragments.
-template <class F> mask_t<F> covered_lanes(const FragIn<F>& in) {
+template <class F>
+mask_t<F> covered_lanes(const FragIn<F>& in) {
   mask_t<F> m = false_mask<F>();
   for (int i = 0; i < lane_width<F>; ++i) {
     const int ln = in.lane0 + i;
@@ -76,7 +96,8 @@ template <class F> mask_t<F> covered_lanes(const FragIn<F>& in) {
 // The material's depth map (slot kDepthSlot) at a constant LOD per quad: the derivatives are per
 // quad, so the LOD is computed at a quad's first lane and copied to the other three. No LOD when
 // the slot is empty (the source must then not be sampled).
-template <class F> TextureDepth material_depth(const MaterialUniforms& m, const FragIn<F>& in) {
+template <class F>
+TextureDepth material_depth(const MaterialUniforms& m, const FragIn<F>& in) {
   TextureDepth depth;
   depth.texture = m.textures[kDepthSlot];
   depth.sampler = &m.samplers[kDepthSlot];
@@ -92,11 +113,13 @@ template <class F> TextureDepth material_depth(const MaterialUniforms& m, const 
 // The fragment's tangent frame tf, the unit world direction w from the eye to the fragment
 // (shaders_cpp/ray.h world_view_dir) and V, w in tangent space. Callers bind references to the
 // members, not a structured binding: clang before 16 cannot capture one in a lambda.
-template <class F> struct ShellView {
+template <class F>
+struct ShellView {
   TangentFrame<F> tf;
   V3<F> w, V;
 };
-template <class F> ShellView<F> shell_view(const ShadeContext& ctx, const FragIn<F>& in) {
+template <class F>
+ShellView<F> shell_view(const ShadeContext& ctx, const FragIn<F>& in) {
   const TangentFrame<F> tf = fragment_frame(in);
   const V3<F> w = world_view_dir(in.position, ctx.frame->eye, ctx.frame->orthographic,
                                  ctx.frame->view_dir, -tf.n);
@@ -105,7 +128,8 @@ template <class F> ShellView<F> shell_view(const ShadeContext& ctx, const FragIn
 
 // The relief's full depth in world units: depth_scale uv units at the fragment's tile scale
 // (world units per uv along T and B, scene/mesh_prep.cpp).
-template <class F> F relief_world_height(const F& depth_scale, const FragIn<F>& in) {
+template <class F>
+F relief_world_height(const F& depth_scale, const FragIn<F>& in) {
   return depth_scale * (in.tile_scale.x + in.tile_scale.y) * F(0.5f);
 }
 
@@ -130,25 +154,28 @@ V3<F> record_hit(const FragIn<F>& in, const ShellView<F>& view, const F& depth_s
 }
 
 // Whether a technique policy samples the depth map it is handed (true unless it says otherwise).
-template <class Search> constexpr bool samples_depth_map() {
+template <class Search>
+constexpr bool samples_depth_map() {
   if constexpr (requires { Search::kSamplesDepthMap; })
     return Search::kSamplesDepthMap;
   else
     return true;
 }
 
-template <class Search, EffectMask kEffects> struct ReliefKernel {
+template <class Search, EffectMask kEffects>
+struct ReliefKernel {
   static constexpr bool kShadow = (kEffects & kEffectSelfShadow) != 0;
   static constexpr bool kDepth = (kEffects & (kEffectDepthWrite | kEffectShadowPass)) != 0;
   static constexpr bool kShadowPass = (kEffects & kEffectShadowPass) != 0;
   static constexpr bool kReceive = (kEffects & kEffectReceiveShadow) != 0;
 
-  template <class F> static ShadeOut<F> shade(const ShadeContext& ctx, const FragIn<F>& in) {
+  template <class F>
+  static ShadeOut<F> shade(const ShadeContext& ctx, const FragIn<F>& in) {
     const MaterialUniforms& m = *ctx.material;
     ShadeOut<F> o;
     const ShellView<F> view = shell_view(ctx, in);
     const TangentFrame<F>& tf = view.tf;
-    const V3<F>& w = view.w, &V = view.V;
+    const V3<F>&w = view.w, &V = view.V;
     const F depth_scale(m.params[Search::kDepthScale]);
     const V2<F> ds = texture_step(V, depth_scale);
     const mask_t<F> active = covered_lanes(in);
@@ -173,14 +200,14 @@ template <class Search, EffectMask kEffects> struct ReliefKernel {
         if constexpr (kShadow) {
           if (depth.texture) {
             const V3<F> lt = tf.to_tangent(l);
-            vis = Search::shadow(ctx, depth, hit, light_step(lt, depth_scale), lt.z, active & lit,
-                                 o);
+            vis =
+                Search::shadow(ctx, depth, hit, light_step(lt, depth_scale), lt.z, active & lit, o);
           }
         }
         if constexpr (kReceive) {
           if (const ShadowMapView* sm = ctx.frame->lights[i].shadow)
-            vis = vis * shadow_map_visibility(*sm, pos, n, l, active & lit & (vis > F(0.0f)),
-                                              o.fetches);
+            vis = vis *
+                  shadow_map_visibility(*sm, pos, n, l, active & lit & (vis > F(0.0f)), o.fetches);
         }
         return vis;
       };
@@ -199,7 +226,8 @@ inline constexpr EffectMask kReliefShellEffects =
 
 // The main-pass packet shader of `Search` with the effects kR (0 or kEffectReceiveShadow) and
 // self-shadow / depth write from `e`.
-template <class Search, EffectMask kR> ShadeFn select_lit_relief_variant(EffectMask e) {
+template <class Search, EffectMask kR>
+ShadeFn select_lit_relief_variant(EffectMask e) {
   constexpr EffectMask kS = kEffectSelfShadow, kD = kEffectDepthWrite;
   if (e & kD)
     return (e & kS) ? &shade_packet<ReliefKernel<Search, kS | kD | kR>>
@@ -209,7 +237,8 @@ template <class Search, EffectMask kR> ShadeFn select_lit_relief_variant(EffectM
 }
 
 // The packet shader of `Search` for a combination of effects (one instantiation each).
-template <class Search> ShadeFn select_relief_variant(EffectMask e) {
+template <class Search>
+ShadeFn select_relief_variant(EffectMask e) {
   if (e & kEffectShadowPass) return &shade_packet<ReliefKernel<Search, kEffectShadowPass>>;
   return (e & kEffectReceiveShadow) ? select_lit_relief_variant<Search, kEffectReceiveShadow>(e)
                                     : select_lit_relief_variant<Search, 0>(e);
@@ -232,7 +261,8 @@ F marched_shadow(const TextureDepth& depth, const SearchHit<F>& hit, const V2<F>
 
 // The marched shadow as a policy's `shadow` member, for techniques whose ray starts 0.01 depth
 // units above the hit and takes the schema's shadow_steps (at index kStepsParam).
-template <int kStepsParam> struct MarchedShadow {
+template <int kStepsParam>
+struct MarchedShadow {
   template <class F>
   static F shadow(const ShadeContext& ctx, const TextureDepth& depth, const SearchHit<F>& hit,
                   const V2<F>& dl, const F& lz, mask_t<F> lit, ShadeOut<F>& o) {

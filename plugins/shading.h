@@ -17,34 +17,36 @@
 
 namespace relief {
 
-template <class F> struct FragIn {
-  int lane0;                 // first packet lane of this group
+template <class F>
+struct FragIn {
+  int lane0;  // first packet lane of this group
   const FragmentPacket* packet;
-  V3<F> position;            // world
-  V3<F> normal;              // world, interpolated (not unit)
-  V3<F> tangent;             // world, interpolated
+  V3<F> position;  // world
+  V3<F> normal;    // world, interpolated (not unit)
+  V3<F> tangent;   // world, interpolated
   F tangent_sign;
   V2<F> uv;
-  V2<F> duv_dx, duv_dy;      // per quad
-  V2<F> quadric;             // per-vertex quadric (a, b)
-  V2<F> tile_scale;          // texture-tile size (sx, sy)
-  V4<F> color;               // vertex colour rgba (COLOR_0), 1 when the mesh has none
-  V2<F> uv1;                 // TEXCOORD_1 (untransformed), 0 when the mesh has none
-  V2<F> duv1_dx, duv1_dy;    // per quad
-  bool has_extended;         // the packet carries colour and uv1 (varying::kCountExtended)
-  F frag_z;                  // polygon depth (reversed-Z)
+  V2<F> duv_dx, duv_dy;    // per quad
+  V2<F> quadric;           // per-vertex quadric (a, b)
+  V2<F> tile_scale;        // texture-tile size (sx, sy)
+  V4<F> color;             // vertex colour rgba (COLOR_0), 1 when the mesh has none
+  V2<F> uv1;               // TEXCOORD_1 (untransformed), 0 when the mesh has none
+  V2<F> duv1_dx, duv1_dy;  // per quad
+  bool has_extended;       // the packet carries colour and uv1 (varying::kCountExtended)
+  F frag_z;                // polygon depth (reversed-Z)
   bool front_facing;
 };
 
-template <class F> struct ShadeOut {
+template <class F>
+struct ShadeOut {
   V3<F> color{F(0.0f), F(0.0f), F(0.0f)};
   F alpha = F(1.0f);
-  F depth = F(0.0f);                     // read when the variant writes depth
+  F depth = F(0.0f);  // read when the variant writes depth
   mask_t<F> discard = false_mask<F>();
   // AOVs
   V2<F> hit_uv{F(0.0f), F(0.0f)};
-  F hit_depth = F(0.0f);                 // depth-map units [0, 1]
-  F steps = F(0.0f);                     // search steps
+  F hit_depth = F(0.0f);  // depth-map units [0, 1]
+  F steps = F(0.0f);      // search steps
   V3<F> shading_normal{F(0.0f), F(0.0f), F(1.0f)};
   // work
   F fetches = F(0.0f);
@@ -53,25 +55,29 @@ template <class F> struct ShadeOut {
 
 namespace detail {
 
-template <class F> inline F load_var(const FragmentPacket& p, int k, int lane0) {
+template <class F>
+inline F load_var(const FragmentPacket& p, int k, int lane0) {
   return load_lanes(&p.varyings[k][lane0], F());
 }
 
 // Per-quad derivative of varying k, broadcast to the quad's lanes.
-template <class F> inline F ddx(const FragmentPacket& p, int k, int lane0) {
+template <class F>
+inline F ddx(const FragmentPacket& p, int k, int lane0) {
   return per_lane(F(), [&](int i) {
     const int q = (lane0 + i) & ~3;
     return p.varyings[k][q + 1] - p.varyings[k][q];
   });
 }
-template <class F> inline F ddy(const FragmentPacket& p, int k, int lane0) {
+template <class F>
+inline F ddy(const FragmentPacket& p, int k, int lane0) {
   return per_lane(F(), [&](int i) {
     const int q = (lane0 + i) & ~3;
     return p.varyings[k][q + 2] - p.varyings[k][q];
   });
 }
 
-template <class F> inline FragIn<F> load_fragment(const FragmentPacket& p, int lane0) {
+template <class F>
+inline FragIn<F> load_fragment(const FragmentPacket& p, int lane0) {
   using namespace varying;
   FragIn<F> f;
   f.lane0 = lane0;
@@ -139,7 +145,8 @@ inline void store_out(const ShadeOut<F>& o, const FragmentPacket& p, int lane0, 
 // The material's alphaMode applied to a kernel's output (docs/scene-format.md, "Alpha"): MASK
 // discards the lanes whose alpha is below alpha_cutoff, and MASK and OPAQUE write alpha 1; BLEND
 // keeps the alpha, clamped to [0, 1], for the rasterizer to composite with.
-template <class F> inline ShadeOut<F> resolve_alpha(const MaterialUniforms& m, ShadeOut<F> o) {
+template <class F>
+inline ShadeOut<F> resolve_alpha(const MaterialUniforms& m, ShadeOut<F> o) {
   if (m.alpha_mode == AlphaMode::kBlend) {
     o.alpha = clamp(o.alpha, F(0.0f), F(1.0f));
     return o;

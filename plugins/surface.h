@@ -19,21 +19,24 @@ inline constexpr TextureSlotSpec kNormalSlotSpec = {
     "linear RGB"};
 
 // The fragment's tangent frame, re-orthonormalised, its normal flipped on back faces.
-template <class F> TangentFrame<F> fragment_frame(const FragIn<F>& in) {
+template <class F>
+TangentFrame<F> fragment_frame(const FragIn<F>& in) {
   V3<F> geo_n = in.normal;
   if (!in.front_facing) geo_n = -geo_n;
   return make_tangent_frame(geo_n, in.tangent, in.tangent_sign);
 }
 
 // A texture's coordinates and their per-quad derivatives.
-template <class F> struct SlotUv {
+template <class F>
+struct SlotUv {
   V2<F> uv, dx, dy;
 };
 
 // The coordinates of a texture whose UvMap is `map` at the (hit) uv, in the uv varying's space:
 // the map's affine part applied to uv (set 0) or to the fragment's TEXCOORD_1 (set 1), the
 // derivatives by its linear part. The identity is free.
-template <class F> SlotUv<F> map_uv(const UvMap& map, const V2<F>& uv, const FragIn<F>& in) {
+template <class F>
+SlotUv<F> map_uv(const UvMap& map, const V2<F>& uv, const FragIn<F>& in) {
   if (map.identity) return {uv, in.duv_dx, in.duv_dy};
   const bool s1 = map.set == 1;
   const V2<F>& u = s1 ? in.uv1 : uv;
@@ -86,7 +89,8 @@ F sample_alpha(const MaterialUniforms& m, int slot, const V2<F>& uv, const FragI
 // A normal-map texel c (rgb in [0, 1]) in the frame's (t, b, n) coordinates, not normalised:
 // glTF convention, x along +u, y toward the image top (-v, so along -b), z out; x and y scaled by
 // `strength`. The one decode of every CPU plugin (gl/shaders/common.glsl has its twin).
-template <class F> V3<F> normal_from_texel(const V4<F>& c, F strength) {
+template <class F>
+V3<F> normal_from_texel(const V4<F>& c, F strength) {
   return V3<F>((c.x * F(2.0f) - F(1.0f)) * strength, (F(1.0f) - c.y * F(2.0f)) * strength,
                c.z * F(2.0f) - F(1.0f));
 }
@@ -107,15 +111,16 @@ V3<F> sample_normal_map(const MaterialUniforms& m, int slot, const TangentFrame<
 
 // Unit direction from the fragment at p to the eye: normalize(eye - p) for perspective views, the
 // reversed view direction for orthographic ones (where every eye ray is parallel).
-template <class F> V3<F> to_eye(const FrameUniforms& frame, const V3<F>& p) {
+template <class F>
+V3<F> to_eye(const FrameUniforms& frame, const V3<F>& p) {
   return frame.orthographic ? V3<F>(-frame.view_dir) : normalize(V3<F>(frame.eye) - p);
 }
 
 // Blinn-Phong at p for the frame's lights; with kReceive, each light's shadow map (if it has one)
 // is compared against the plane through p with normal `receiver_n` (counted into `fetches`).
 template <bool kReceive, class F>
-V3<F> shade_lights(const ShadeContext& ctx, const V3<F>& p, const V3<F>& n,
-                   const V3<F>& receiver_n, const V3<F>& v, const V3<F>& albedo, F& fetches) {
+V3<F> shade_lights(const ShadeContext& ctx, const V3<F>& p, const V3<F>& n, const V3<F>& receiver_n,
+                   const V3<F>& v, const V3<F>& albedo, F& fetches) {
   if constexpr (kReceive)
     return blinn_phong(*ctx.frame, *ctx.material, p, n, v, albedo,
                        ShadowMapReceiver<F>{*ctx.frame, p, receiver_n, fetches});
