@@ -117,8 +117,7 @@ int run_bake(const BakeArgs& a) {
   if (!(a.max_ratio > 0.0f) || !std::isfinite(a.max_ratio) || a.max_ratio > 65504.0f)
     return fail("bake: --max-ratio must be positive, finite and at most 65504", 2);
   if (a.threads < 0) return fail("bake: --threads must be >= 0 (0: all cores)", 2);
-  if (a.bilinear && a.cone != "conservative" && a.cone != "quad")
-    return fail("bake: --bilinear applies to --cone conservative or quad", 2);
+  if (a.bilinear && a.cone.empty()) return fail("bake: --bilinear applies to --cone only", 2);
   const std::string ext = lower_ext(a.output);
   if (ext != ".png" && ext != ".exr" && ext != ".tif" && ext != ".tiff")
     return fail(a.output + ": unsupported output extension '" + ext +
@@ -253,7 +252,7 @@ void register_bake(CLI::App& app, Action& action) {
   sub->add_option("--max-ratio", args->max_ratio, "Clamp cone ratios (default 1)");
   sub->add_flag("--wrap", args->wrap, "The map tiles (wrap at the borders); default clamp");
   sub->add_flag("--bilinear", args->bilinear,
-                "Conservative/quad cones safe for the bilinear surface (the cone plugins' maps)");
+                "Cones safe for the bilinear surface (the cone plugins' maps)");
   sub->add_option("--threads", args->threads, "Worker threads (0: all cores)");
   sub->add_flag("--dual", args->dual,
                 "Dual-depth relief textures of a glTF mesh: -o PREFIX gets PREFIX_front.exr, "

@@ -243,17 +243,16 @@ int channels_of(ConeKind kind) {
 }
 
 void check_options(const ConeBakeOptions& o) {
-  CHECK(!(o.bilinear && o.kind == ConeKind::kRelaxed));
   CHECK(o.max_ratio > 0.0f);
   CHECK(std::isfinite(o.max_ratio));
 }
 
 // Lowers the ratios r[] by destination j at offset (ox, oy) with depth dj and distance D from
-// a source of depth di (conservative and quad kinds).
+// a source of depth di (conservative and quad kinds, and bilinear relaxed cones).
 inline void lower(const Destinations& dst, ConeKind kind, int ox, int oy, float di, float dj,
                   float D, float* r) {
   const float v = D / (di - dj);
-  if (kind == ConeKind::kConservative) {
+  if (kind != ConeKind::kQuad) {
     r[0] = std::min(r[0], v);
     return;
   }
@@ -263,10 +262,127 @@ inline void lower(const Destinations& dst, ConeKind kind, int ox, int oy, float 
     if (in[c]) r[c] = std::min(r[c], v);
 }
 
-// The source's apex depth and initial ratios (the near bound for patches).
-inline float start_texel(const Field& f, const Destinations& dst, float R, int x, int y, float* r) {
+// Bilinear relaxed cones: can a ray leaving the axis of source cell (x, y) come out of the surface
+// on the patch at offset (ox, oy) (see cone_map.h)? It can only where the patch descends radially,
+// g(q) . (q - p) > 0 for some apex p in the cell and point q of the patch (g: the patch's
+// gradient). In texel units relative to the source texel's centre, the cell is [-1/2, 1/2]^2 and
+// the patch [ox, ox + 1] x [oy, oy + 1]; g(q) . (q - p) is linear in p and bilinear in q, so its
+// maximum over the two squares is at a pair of corners.
+bool patch_may_exit(const Field& f, int x, int y, int ox, int oy) {
+  const float c00 = f.cell(x + ox, y + oy), c10 = f.cell(x + ox + 1, y + oy),
+              c01 = f.cell(x + ox, y + oy + 1), c11 = f.cell(x + ox + 1, y + oy + 1);
+  const float bx = c10 - c00, by = c01 - c00, e = c11 - c10 - c01 + c00;
+  for (int v = 0; v <= 1; ++v)
+    for (int u = 0; u <= 1; ++u) {
+      const float gx = bx + e * static_cast<float>(v), gy = by + e * static_cast<float>(u);
+      const float qx = static_cast<float>(ox + u), qy = static_cast<float>(oy + v);
+      for (float px : {-0.5f, 0.5f})
+        for (float py : {-0.5f, 0.5f})
+          if (gx * (qx - px) + gy * (qy - py) > 0.0f) return true;
+    }
+  return false;
+}
+
+// Does destination (ox, oy) constrain source (x, y)? Always, except for bilinear relaxed cones,
+// where only patches a ray can come out of do.
+inline bool constrains(const Field& f, const Destinations& dst, ConeKind kind, int x, int y, int ox,
+                       int oy) {
+  return !(dst.patches && kind == ConeKind::kRelaxed) || patch_may_exit(f, x, y, ox, oy);
+}
+
+// Bilinear relaxed cones, the 4 near patches around source texel (x, y) (the 2 x 2 texel square
+// [-1, 1]^2 around its centre, which holds its cell). Gaps are zero here, so the patches are cut
+// into quarter-texel squares, the cell too, and each pair (apex square Sp, surface square Sq)
+// bounds the ratio only if a ray can come out of Sq above an apex of Sp: the minimum depth of Sq
+// below the maximum of Sp and the radial-descent test passes. Then: both squares in one patch ->
+// along a segment in a patch the depth is quadratic with curvature e dx dy (e: the patch's twist),
+// so a ray comes out above its apex only where the depth rose by less than |e dx dy| on the way
+// back down: r <= |q - p|_uv / (|e| |dx dy|) >= 2 / (|e| sqrt(w h |dx dy|max)) (a plane: no bound);
+// squares apart -> gap / (max - min); touching squares of two patches -> 1 / L (the segment stays
+// in the 2 x 2 square, where the depth changes by at most L per uv; 1 / L holds for every pair, so
+// each pair's bound is the larger of its own and 1 / L, and the cone is never narrower than the
+// conservative one).
+float relaxed_near_ratio(const Field& f, const Destinations& dst, int x, int y, float R) {
   const size_t i = static_cast<size_t>(y) * f.w + x;
-  const float r0 = dst.patches ? std::min(R, dst.near[i]) : R;
+  float c[3][3];  // texel depths around the source, c[1][1] = the source
+  for (int j = -1; j <= 1; ++j)
+    for (int k = -1; k <= 1; ++k) c[j + 1][k + 1] = f.cell(x + k, y + j);
+  // depth at (u, v) relative to the centre, texel units, |u|, |v| <= 1
+  auto depth = [&](float u, float v) {
+    const int pu = u < 0.0f ? 0 : 1, pv = v < 0.0f ? 0 : 1;  // patch [pu - 1, pu] x [pv - 1, pv]
+    const float a = u - static_cast<float>(pu - 1), b = v - static_cast<float>(pv - 1);
+    const float c00 = c[pv][pu], c10 = c[pv][pu + 1], c01 = c[pv + 1][pu], c11 = c[pv + 1][pu + 1];
+    return c00 + (c10 - c00) * a + (c01 - c00) * b + (c11 - c10 - c01 + c00) * a * b;
+  };
+  struct Sq {
+    float u0, v0, u1, v1, lo, hi;
+    int pu, pv;
+  };
+  auto square = [&](float u0, float v0, float q) {
+    Sq sq{u0, v0, u0 + q, v0 + q, 2.0f, -1.0f, u0 < 0.0f ? 0 : 1, v0 < 0.0f ? 0 : 1};
+    for (float u : {sq.u0, sq.u1})
+      for (float v : {sq.v0, sq.v1}) {
+        const float d = depth(u, v);
+        sq.lo = std::min(sq.lo, d);
+        sq.hi = std::max(sq.hi, d);
+      }
+    return sq;
+  };
+  constexpr float q = 0.25f;
+  Sq ps[16], qs[64];
+  for (int j = 0; j < 4; ++j)
+    for (int k = 0; k < 4; ++k) ps[j * 4 + k] = square(-0.5f + q * k, -0.5f + q * j, q);
+  for (int j = 0; j < 8; ++j)
+    for (int k = 0; k < 8; ++k) qs[j * 8 + k] = square(-1.0f + q * k, -1.0f + q * j, q);
+  const float fw = static_cast<float>(f.w), fh = static_cast<float>(f.h);
+  float r = R;
+  for (const Sq& b : qs) {
+    const float c00 = c[b.pv][b.pu], c10 = c[b.pv][b.pu + 1], c01 = c[b.pv + 1][b.pu],
+                c11 = c[b.pv + 1][b.pu + 1];
+    const float bx = c10 - c00, by = c01 - c00, e = c11 - c10 - c01 + c00;
+    for (const Sq& a : ps) {
+      if (!(b.lo < a.hi)) continue;
+      bool exits = false;
+      for (float qv : {b.v0, b.v1})
+        for (float qu : {b.u0, b.u1}) {
+          const float gx = bx + e * (qv - static_cast<float>(b.pv - 1)),
+                      gy = by + e * (qu - static_cast<float>(b.pu - 1));
+          for (float pu : {a.u0, a.u1})
+            for (float pv : {a.v0, a.v1}) exits = exits || gx * (qu - pu) + gy * (qv - pv) > 0.0f;
+        }
+      if (!exits) continue;
+      if (a.pu == b.pu && a.pv == b.pv) {
+        if (e == 0.0f) continue;
+        const float dx = std::max(std::abs(b.u1 - a.u0), std::abs(a.u1 - b.u0));
+        const float dy = std::max(std::abs(b.v1 - a.v0), std::abs(a.v1 - b.v0));
+        const float twist = 2.0f / std::nextafter(std::abs(e) * std::sqrt(fw * fh * dx * dy), kInf);
+        r = std::min(r, std::max(twist, dst.near[i]));
+        continue;
+      }
+      const float gu = std::max({0.0f, b.u0 - a.u1, a.u0 - b.u1}),
+                  gv = std::max({0.0f, b.v0 - a.v1, a.v0 - b.v1});
+      if (gu == 0.0f && gv == 0.0f) {
+        r = std::min(r, dst.near[i]);
+        continue;
+      }
+      const float gap = std::hypot(gu / fw, gv / fh);
+      r = std::min(r, std::max(gap / std::nextafter(a.hi - b.lo, kInf), dst.near[i]));
+    }
+  }
+  return r;
+}
+
+// The source's apex depth and initial ratios (the near bound for patches; for bilinear relaxed
+// cones relaxed_near_ratio).
+inline float start_texel(const Field& f, const Destinations& dst, ConeKind kind, float R, int x,
+                         int y, float* r) {
+  const size_t i = static_cast<size_t>(y) * f.w + x;
+  const bool near = dst.patches && kind != ConeKind::kRelaxed;
+  if (dst.patches && kind == ConeKind::kRelaxed) {
+    r[0] = relaxed_near_ratio(f, dst, x, y, R);
+    return dst.apex[i];
+  }
+  const float r0 = near ? std::min(R, dst.near[i]) : R;
   for (int c = 0; c < 4; ++c) r[c] = r0;
   return dst.patches ? dst.apex[i] : f.at(x, y);
 }
@@ -277,7 +393,7 @@ void brute_texel(const Field& f, const Destinations& dst, const ConeBakeOptions&
                  float* out) {
   const float R = o.max_ratio;
   float r[4];
-  const float di = start_texel(f, dst, R, x, y, r);
+  const float di = start_texel(f, dst, o.kind, R, x, y, r);
   int ox0, ox1, oy0, oy1;
   if (f.wrap) {
     // Offsets with D >= R d_i give ratios >= R: the box |ox| <= R d_i w, |oy| <= R d_i h holds all
@@ -294,8 +410,9 @@ void brute_texel(const Field& f, const Destinations& dst, const ConeBakeOptions&
       if (near_patch(dst, ox, oy)) continue;
       const float dj = dst.grid.cell(x + ox - dst.origin, y + oy - dst.origin);
       if (!(dj < di)) continue;
+      if (!constrains(f, dst, o.kind, x, y, ox, oy)) continue;
       const float D = range_dist(f, dst, ox, ox, oy, oy);
-      if (o.kind == ConeKind::kRelaxed)
+      if (o.kind == ConeKind::kRelaxed && !dst.patches)
         r[0] = std::min(r[0], relaxed_pair(f, x, y, ox, oy, di, dj, D, R));
       else
         lower(dst, o.kind, ox, oy, di, dj, D, r);
@@ -352,7 +469,7 @@ class FastBaker {
   void texel(int x, int y, float* out) {
     const float R = o_.max_ratio;
     float r[4];
-    const float di = start_texel(f_, dst_, R, x, y, r);
+    const float di = start_texel(f_, dst_, o_.kind, R, x, y, r);
     const int nc = channels_of(o_.kind);
     const int top = static_cast<int>(t_.levels.size()) - 1;
     stack_.clear();
@@ -388,7 +505,8 @@ class FastBaker {
             if (!(dj < di)) continue;
             const float D = range_dist(f_, dst_, ox, ox, oy, oy);
             if (o_.kind != ConeKind::kQuad && D > r[0] * (di - dj) * kCullSlack) continue;
-            if (o_.kind == ConeKind::kRelaxed)
+            if (!constrains(f_, dst_, o_.kind, x, y, ox, oy)) continue;
+            if (o_.kind == ConeKind::kRelaxed && !dst_.patches)
               r[0] = std::min(r[0], relaxed_pair(f_, x, y, ox, oy, di, dj, D, r[0]));
             else
               lower(dst_, o_.kind, ox, oy, di, dj, D, r);

@@ -51,6 +51,25 @@
 //   m_P: the minimum corner of patch P (the square between four texel centres), gap: the uv
 //   distance between the cell and the patch. Quad channels keep the patches a ray leaving the cell
 //   in that direction can reach. These cones are narrower than texel-point ones near features.
+// Bilinear-safe relaxed cones (`bilinear` with kRelaxed; issue 22). The chapter's relaxed cones
+//   only consider rays that pass the cone's axis at depth 0 and exits on the nearest-texel field;
+//   a relaxed step on the bilinear field from a ray point deeper than that can pass a whole
+//   one-texel wall (a tent two texels wide on the bilinear field) and come out beyond it: the
+//   wrong-layer hits of thin walls. Exact condition: a step runs from the ray's point (p, t) on the
+//   cone's axis, outside (t < D(p)), straight to the cone's boundary, in the ray's uv direction
+//   dir; it can enter the surface and come out again only if it comes out at a surface point E
+//   inside the cone, where the ray's depth grows more slowly than the surface's along dir:
+//   dD/d(dir)(E) > (depth per uv of the ray) > 0. Rays of every slope leave the axis (grazing
+//   views), so the cone must hold no surface point above the apex where the surface descends
+//   radially, g(E) . (E - p) > 0 (g: the bilinear gradient). Then a step that ends outside crossed
+//   no surface and a step that ends inside crossed it exactly once: the bracket [last outside,
+//   first inside] holds the first hit, for any view, on the field the kernels sample. Bound used:
+//   the conservative bilinear bound above restricted to the patches P with
+//   max over apexes p in cell i and points q in P of g(q) . (q - p) > 0 (linear in p, bilinear
+//   in q, so a test of the 4 x 4 corner pairs), and the near bound 1 / L only when one of the 4
+//   near patches passes that test above the deepest apex. Never narrower than bilinear conservative
+//   cones; wider where the surface faces the apex (the near side of a bump or wall), equal where
+//   the walls are one texel thick (both sides are within a texel).
 //
 // Two bakers per kind give the same floats: the brute-force one (all pairs, the test oracle) and
 // the fast one (a min-depth quadtree bounds whole blocks of destinations: a block whose nearest
@@ -72,8 +91,8 @@ struct ConeBakeOptions {
   ConeKind kind = ConeKind::kRelaxed;
   float max_ratio = 1.0f;  // > 0; the chapter clamps at 1 to store ratios in 8 bits
   bool wrap = false;       // tiling map (repeat) vs clamp at the borders
-  // Conservative and quad kinds only: cones safe for the bilinear surface (see above) instead of
-  // the texel points.
+  // Cones safe for the bilinear surface (see above) instead of the texel points (conservative,
+  // quad) or the chapter's nearest-texel exits (relaxed).
   bool bilinear = false;
   int threads = 0;  // <= 0: hardware concurrency (fast baker only)
   // Called on the calling thread with non-decreasing fractions in [0, 1], ending with 1.

@@ -85,7 +85,7 @@ TEST_F(CmdBake, UsageErrorsLeaveNothingBehind) {
         depth_ + out + " --normal --depth-scale -1",         // bad scale
         depth_ + out + " --cone relaxed --max-ratio 0",      // bad ratio
         depth_ + out + " --cone relaxed --threads -3",       // bad threads
-        depth_ + out + " --cone relaxed --bilinear",         // bilinear is for conservative
+        depth_ + out + " --normal --bilinear",               // bilinear is for cones
         depth_ + " -o " + path("out.bmp") + " --cone quad",  // unknown extension
         depth_ + " -o " + path("out.png") + " --cone relaxed --max-ratio 2",  // PNG holds [0,1]
         std::string("--cone relaxed") + out}) {                               // no input

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <functional>
+#include <iostream>
 #include <random>
 #include <string>
 #include <vector>
@@ -122,6 +123,9 @@ TEST(ConeMap, BilinearConservativeFastEqualsBruteForce) {
 TEST(ConeMap, BilinearQuadFastEqualsBruteForce) {
   fast_equals_brute(ConeKind::kQuad, true);
 }
+TEST(ConeMap, BilinearRelaxedFastEqualsBruteForce) {
+  fast_equals_brute(ConeKind::kRelaxed, true);
+}
 
 // Bilinear depth of the map (GL LINEAR at level 0, clamp or repeat) at texel-space point (px, py).
 double bilinear_depth(const Texture& d, bool wrap, double px, double py) {
@@ -144,19 +148,30 @@ double bilinear_depth(const Texture& d, bool wrap, double px, double py) {
   return top + b * (bot - top);
 }
 
+// The bilinear-safe and the texel-point maps of one kind.
+struct BilinearAndPoint {
+  ConeRatios bilinear, point;
+};
+BilinearAndPoint bake_both(const Texture& d, ConeKind kind, bool wrap) {
+  ConeBakeOptions o;
+  o.kind = kind;
+  o.wrap = wrap;
+  o.bilinear = true;
+  BilinearAndPoint out;
+  out.bilinear = bake_cone_ratios(d, o);
+  o.bilinear = false;
+  out.point = bake_cone_ratios(d, o);
+  return out;
+}
+
 TEST(ConeMap, BilinearConesHoldNoBilinearSurfacePoint) {
   // Sampled definition check: for apexes (p, D(p)) anywhere in a texel's cell and surface points
   // (q, D(q)) on a fine grid of the bilinear surface, no q lies strictly inside the cone; the
   // texel-point cones, by contrast, do hold some (which is why the kernels need these).
   for (bool wrap : {false, true}) {
     const Texture d = bumpy_map(24, 20, 51);
-    ConeBakeOptions o;
-    o.kind = ConeKind::kConservative;
-    o.wrap = wrap;
-    o.bilinear = true;
-    const ConeRatios r = bake_cone_ratios(d, o);
-    o.bilinear = false;
-    const ConeRatios point = bake_cone_ratios(d, o);
+    const BilinearAndPoint maps = bake_both(d, ConeKind::kConservative, wrap);
+    const ConeRatios &r = maps.bilinear, &point = maps.point;
     int point_violations = 0;
     for (int y = 1; y < 20; y += 4)
       for (int x = 2; x < 24; x += 5)
@@ -173,6 +188,70 @@ TEST(ConeMap, BilinearConesHoldNoBilinearSurfacePoint) {
               }
           }
     EXPECT_GT(point_violations, 0);
+  }
+}
+
+// Samples the segment of a ray from the axis point (p, t) of an apex (p, D(p)) to where it leaves
+// the cone of ratio r (uv per unit depth; the ray's uv direction dir, its uv per unit depth s).
+// Returns how often it comes out of the bilinear surface (inside, then outside) on the way.
+int exits_inside_cone(const Texture& d, bool wrap, double px, double py, double t, double dirx,
+                      double diry, double s, double r) {
+  const int w = d.width(), h = d.height();
+  const double a = bilinear_depth(d, wrap, px, py);
+  // cone boundary: uv distance k s from the axis at depth t + k equals r (a - t - k)
+  const double kmax = r * (a - t) / (s + r);
+  int exits = 0;
+  bool inside = false;
+  const int n = 1000;
+  for (int i = 1; i <= n; ++i) {
+    const double k = kmax * i / n;
+    const double qx = px + dirx * k * s * w, qy = py + diry * k * s * h;
+    if (!wrap && (qx < 0 || qy < 0 || qx > w || qy > h)) break;
+    const bool in = t + k > bilinear_depth(d, wrap, qx, qy) + 1e-6;
+    exits += inside && !in;
+    inside = in;
+  }
+  return exits;
+}
+
+TEST(ConeMap, BilinearRelaxedConesLetNoRayOutOfTheSurface) {
+  // The property relaxed cone stepping needs, on the bilinear surface the kernels sample: a ray
+  // leaving the axis of any apex in a texel's cell, above the surface, in any direction and at any
+  // slope, that enters the surface inside the cone does not come out of it inside the cone. The
+  // chapter's texel-point relaxed cones break it (the thin-wall wrong layers of issue 22).
+  for (bool wrap : {false, true}) {
+    const Texture d = bumpy_map(24, 20, 51);
+    const BilinearAndPoint maps = bake_both(d, ConeKind::kRelaxed, wrap);
+    const ConeRatios &r = maps.bilinear, &point = maps.point;
+    const ConeRatios cons = bake_both(d, ConeKind::kConservative, wrap).bilinear;
+    int exits = 0, point_exits = 0, rays = 0;
+    double wider = 0;  // mean ratio of the bilinear relaxed cone to the conservative one
+    for (int y = 1; y < 20; y += 3)
+      for (int x = 1; x < 24; x += 3) {
+        wider += r.at(x, y) / cons.at(x, y);
+        EXPECT_GE(r.at(x, y), cons.at(x, y)) << x << "," << y;
+        for (double sy : {0.1, 0.5, 0.9})
+          for (double sx : {0.1, 0.5, 0.9}) {
+            const double px = x + sx, py = y + sy, a = bilinear_depth(d, wrap, px, py);
+            for (double tf : {0.0, 0.8})
+              for (int k = 0; k < 12; ++k) {
+                const double ang = 2 * M_PI * (k + 0.37) / 12;
+                for (double s : {0.02, 0.5}) {
+                  ++rays;
+                  exits += exits_inside_cone(d, wrap, px, py, tf * a, std::cos(ang), std::sin(ang),
+                                             s, r.at(x, y));
+                  point_exits += exits_inside_cone(d, wrap, px, py, tf * a, std::cos(ang),
+                                                   std::sin(ang), s, point.at(x, y));
+                }
+              }
+          }
+      }
+    EXPECT_EQ(exits, 0) << "of " << rays << " rays";
+    EXPECT_GT(point_exits, 0);
+    std::cout << (wrap ? "wrap" : "clamp") << ": " << rays
+              << " rays, texel-point relaxed cones let " << point_exits
+              << " out; bilinear relaxed / bilinear conservative ratio, mean " << wider / (7 * 8)
+              << "\n";
   }
 }
 
