@@ -195,7 +195,7 @@ Result<DerivedMap> derive_map(const Material& m, const std::string& slot) {
   o.kind = cs->kind;
   o.max_ratio = 1.0f;
   o.wrap = periodic(m.sampler.wrap_u) && periodic(m.sampler.wrap_v);
-  o.bilinear = o.kind != ConeKind::kRelaxed;  // what the kernels need (shaders_cpp/cone.h)
+  o.bilinear = true;  // what the kernels need (shaders_cpp/cone.h)
   const int w = depth.width(0), h = depth.height(0);
 
   Header want{};

@@ -83,7 +83,7 @@ struct Packet {
     o.kind = std::strcmp(p.name, "cone") == 0        ? ConeKind::kConservative
              : std::strcmp(p.name, "cone_quad") == 0 ? ConeKind::kQuad
                                                      : ConeKind::kRelaxed;
-    o.bilinear = o.kind != ConeKind::kRelaxed;
+    o.bilinear = true;
     cone = bake_cone_map(depth, o);
     testing::set_oblique_frame(frame);
     for (int i = 0; i < p.num_params; ++i) material.params[i] = p.params[i].default_value;

@@ -85,7 +85,7 @@ const Texture* derived_map(const std::string& slot, const TexCase& c) {
     o.kind = slot == "cone_quad"           ? ConeKind::kQuad
              : slot == "cone_conservative" ? ConeKind::kConservative
                                            : ConeKind::kRelaxed;
-    o.bilinear = o.kind != ConeKind::kRelaxed;
+    o.bilinear = true;
     if (c.w * c.h > 256 * 256) {  // flat maps only at this size: every cone is as wide as allowed
       ConeRatios r;
       r.width = c.w;

@@ -206,11 +206,12 @@ TEST(Cone, ConservativeConesNeverPassTheFirstHit) {
 
 // Figure 18-1's claim at the chapter's budget, on random rays up to 75 degrees with depth scales
 // up to 0.1: relaxed cones (15 steps + 6 halvings) beat relief's linear + binary search (15 + 6).
-// Measured (mean texels / fetches): relaxed 1.00 / 27, relief 1.56 / 16, the plugins' `cone` with
-// its fallback and halvings 0.97 / 39, cone_quad 0.96 / 39. Dummer's march alone (15 steps) scores
-// 0.70 / 28 here, because where it runs out of steps it stops in the air just short of the first
-// surface (close in uv, wrong in depth: the hits issue 22 removes); the bench's views show the
-// other side of that (docs/cones.md).
+// Measured (mean texels / fetches): relaxed (the bilinear-safe cones) 0.64 / 38.5, relief 1.56 /
+// 16, the plugins' `cone` with its fallback and halvings 0.63 / 39.6, cone_quad 0.62 / 38.8: valid
+// relaxed cones are barely wider than conservative ones here, so they no longer beat them. Dummer's
+// march alone (15 steps) scores 0.70 / 28 here, because where it runs out of steps it stops in the
+// air just short of the first surface (close in uv, wrong in depth: the hits issue 22 removes); the
+// bench's views show the other side of that (docs/cones.md).
 TEST(Cone, RelaxedBeatsReliefAndConservativeOnPattern) {
   const ConeField& c = fields()[2];
   const auto rs = rays(4000, 42);
@@ -253,6 +254,50 @@ TEST(Cone, RelaxedBeatsReliefAndConservativeOnPattern) {
   EXPECT_LE(quadc.mean_texels, conservative.mean_texels * 1.001);
 }
 
+// The relaxed cones the plugins bake (bilinear-safe, bake/cone_map.h) keep the chapter's promise on
+// the field the kernels sample: a ray that marches into the surface crossed it exactly once, in
+// its last step, and no earlier step went in and out. Checked by sampling every ray densely from
+// depth 0 to where a long march (no step budget) stopped inside. The chapter's relaxed cones (the
+// texel-point definition, `relief bake --cone relaxed` without --bilinear) break it on every field
+// with thin features: the thin-wall wrong layers of issue 22.
+TEST(Cone, RelaxedMarchCrossesTheSurfaceOnceInItsLastStep) {
+  for (const ConeField& c : fields()) {
+    ConeBakeOptions o;
+    o.wrap = true;
+    o.kind = ConeKind::kRelaxed;
+    const Texture chapter =
+        bake_cone_map(Texture::from_floats(TexFormat::kR32F, c.f.w, c.f.h, c.f.d.data()), o);
+    const auto rs = rays(1500, 77);
+    int bad = 0, chapter_bad = 0, inside = 0;
+    for (const Texture* map : {&c.relaxed, &chapter}) {
+      const TextureCone cone = c.cone(*map);
+      for (const testing::RandomRay& r : rs) {
+        const V2<float> uv(r.u, r.v), ds(r.dsx, r.dsy);
+        const ConeMarch<float> m = cone_march_state(c.f, cone, uv, ds, 2000, 1.0f, true);
+        if (!m.inside) continue;
+        inside += map == &c.relaxed;
+        // inside, then outside again (by more than float noise either way) before the march's end
+        bool was_in = false, wrong = false;
+        const int n = 4000;
+        for (int k = 0; k <= n; ++k) {
+          const float t = m.t * static_cast<float>(k) / n;
+          const float g = t - c.f(0, uv.x + ds.x * t, uv.y + ds.y * t);
+          wrong = wrong || (was_in && g < -1e-5f);
+          was_in = was_in || g > 1e-5f;
+        }
+        (map == &c.relaxed ? bad : chapter_bad) += wrong;
+      }
+    }
+    std::printf(
+        "%-8s %d of %d marches inside: crossings not in the last step: bilinear-safe %d, "
+        "chapter's %d\n",
+        c.name.c_str(), inside, static_cast<int>(rs.size()), bad, chapter_bad);
+    EXPECT_GT(inside, static_cast<int>(rs.size()) / 2) << c.name;  // the rest stall above a surface
+    EXPECT_EQ(bad, 0) << c.name;
+    if (c.name != "smooth") EXPECT_GT(chapter_bad, 0) << c.name;
+  }
+}
+
 // Hard shadows of random surface points (exact hits of random view rays) toward random lights:
 // the light ray searched with the technique against the exact shadow test. Returns the fractions
 // of points wrongly shadowed and wrongly lit.
@@ -289,10 +334,10 @@ ShadowScore shadow_disagreement(const ConeField& c, Search&& search) {
 // linear shadow march (shaders_cpp/shadow.h) at 32 steps. A march that runs out of steps is no
 // longer a shadow (issue 22: the dashed dark lines of cone and cone_quad): the fallback samples
 // the rest of the ray, so the cones never shadow a lit point; they light a shadowed one where a
-// thin occluder falls between fallback samples (conservative) or where a relaxed step passes one
-// (the relaxed cones are baked for the nearest-texel field, the ray samples the bilinear one).
-// Measured (fraction of 3000 points wrongly lit): cone 0.0000 / 0.0140 / 0.0307 on smooth /
-// walls / pattern, cone_quad 0.0000 / 0.0130 / 0.0303, relaxed 0.0000 / 0.0513 / 0.0877; relief's
+// thin occluder falls between fallback samples (the bilinear-safe relaxed cones no longer pass
+// one: with the chapter's, relaxed lit 0.0513 / 0.0877 of the walls / pattern points).
+// Measured (fraction of 3000 points wrongly lit): cone 0.0000 / 0.0140 / 0.0297 on smooth /
+// walls / pattern, cone_quad 0.0000 / 0.0130 / 0.0283, relaxed 0.0000 / 0.0137 / 0.0277; relief's
 // 32-step march 0.0177 / 0.0750 on walls / pattern (15 steps: 0.0430 / 0.1380).
 TEST(Cone, LightRayAgreesWithExactShadow) {
   for (const ConeField& c : fields()) {
@@ -327,10 +372,11 @@ TEST(Cone, LightRayAgreesWithExactShadow) {
     EXPECT_LE(dc.false_shadow, 0.001) << c.name;
     EXPECT_LE(dq.false_shadow, 0.001) << c.name;
     EXPECT_LE(dr.false_shadow, 0.001) << c.name;
-    // conservative and quad cones at 15 + 8 steps beat relief's 32-step march
+    // conservative, quad and (bilinear-safe) relaxed cones at 15 + 8 steps beat relief's 32-step
+    // march
     EXPECT_LE(dc.false_shadow + dc.false_lit, dl.false_shadow + dl.false_lit) << c.name;
     EXPECT_LE(dq.false_shadow + dq.false_lit, dl.false_shadow + dl.false_lit) << c.name;
-    EXPECT_LT(dr.false_shadow + dr.false_lit, 0.10) << c.name;
+    EXPECT_LE(dr.false_shadow + dr.false_lit, dl.false_shadow + dl.false_lit) << c.name;
   }
 }
 

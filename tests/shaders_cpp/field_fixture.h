@@ -76,7 +76,7 @@ inline FloatField smooth_bumps(int n) {
 }
 
 // The three cone maps the cone plugins derive from a level-0 depth map (render/derived_maps.h):
-// bilinear-safe conservative and quad-directional cones, relaxed cones; tiling.
+// conservative, quad-directional and relaxed cones, all bilinear-safe; tiling.
 struct PluginConeMaps {
   Texture cons, quad, relaxed;
 };
@@ -89,7 +89,6 @@ inline PluginConeMaps bake_plugin_cone_maps(const Texture& depth) {
   maps.cons = bake_cone_map(depth, o);
   o.kind = ConeKind::kQuad;
   maps.quad = bake_cone_map(depth, o);
-  o.bilinear = false;
   o.kind = ConeKind::kRelaxed;
   maps.relaxed = bake_cone_map(depth, o);
   return maps;
