@@ -202,7 +202,7 @@ int exits_inside_cone(const Texture& d, bool wrap, double px, double py, double 
   const double kmax = r * (a - t) / (s + r);
   int exits = 0;
   bool inside = false;
-  const int n = 1000;
+  const int n = test::sanitized_or(1000, 250);  // samples along the segment
   for (int i = 1; i <= n; ++i) {
     const double k = kmax * i / n;
     const double qx = px + dirx * k * s * w, qy = py + diry * k * s * h;
@@ -224,6 +224,7 @@ TEST(ConeMap, BilinearRelaxedConesLetNoRayOutOfTheSurface) {
     const BilinearAndPoint maps = bake_both(d, ConeKind::kRelaxed, wrap);
     const ConeRatios &r = maps.bilinear, &point = maps.point;
     const ConeRatios cons = bake_both(d, ConeKind::kConservative, wrap).bilinear;
+    const int dirs = test::sanitized_or(12, 4);
     int exits = 0, point_exits = 0, rays = 0;
     double wider = 0;  // mean ratio of the bilinear relaxed cone to the conservative one
     for (int y = 1; y < 20; y += 3)
@@ -234,8 +235,8 @@ TEST(ConeMap, BilinearRelaxedConesLetNoRayOutOfTheSurface) {
           for (double sx : {0.1, 0.5, 0.9}) {
             const double px = x + sx, py = y + sy, a = bilinear_depth(d, wrap, px, py);
             for (double tf : {0.0, 0.8})
-              for (int k = 0; k < 12; ++k) {
-                const double ang = 2 * M_PI * (k + 0.37) / 12;
+              for (int k = 0; k < dirs; ++k) {
+                const double ang = 2 * M_PI * (k + 0.37) / dirs;
                 for (double s : {0.02, 0.5}) {
                   ++rays;
                   exits += exits_inside_cone(d, wrap, px, py, tf * a, std::cos(ang), std::sin(ang),
@@ -247,7 +248,7 @@ TEST(ConeMap, BilinearRelaxedConesLetNoRayOutOfTheSurface) {
           }
       }
     EXPECT_EQ(exits, 0) << "of " << rays << " rays";
-    EXPECT_GT(point_exits, 0);
+    if (!test::kSanitizedBuild) EXPECT_GT(point_exits, 0);
     std::cout << (wrap ? "wrap" : "clamp") << ": " << rays
               << " rays, texel-point relaxed cones let " << point_exits
               << " out; bilinear relaxed / bilinear conservative ratio, mean " << wider / (7 * 8)

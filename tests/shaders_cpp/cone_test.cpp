@@ -16,6 +16,7 @@
 
 #include "bake/cone_map.h"
 #include "field_fixture.h"
+#include "sanitized.h"
 #include "scene/builtin.h"
 #include "shaders_cpp/exact.h"
 #include "shaders_cpp/ray.h"
@@ -267,7 +268,7 @@ TEST(Cone, RelaxedMarchCrossesTheSurfaceOnceInItsLastStep) {
     o.kind = ConeKind::kRelaxed;
     const Texture chapter =
         bake_cone_map(Texture::from_floats(TexFormat::kR32F, c.f.w, c.f.h, c.f.d.data()), o);
-    const auto rs = rays(1500, 77);
+    const auto rs = rays(test::sanitized_or(1500, 300), 77);
     int bad = 0, chapter_bad = 0, inside = 0;
     for (const Texture* map : {&c.relaxed, &chapter}) {
       const TextureCone cone = c.cone(*map);
@@ -278,7 +279,7 @@ TEST(Cone, RelaxedMarchCrossesTheSurfaceOnceInItsLastStep) {
         inside += map == &c.relaxed;
         // inside, then outside again (by more than float noise either way) before the march's end
         bool was_in = false, wrong = false;
-        const int n = 4000;
+        const int n = test::sanitized_or(4000, 1000);
         for (int k = 0; k <= n; ++k) {
           const float t = m.t * static_cast<float>(k) / n;
           const float g = t - c.f(0, uv.x + ds.x * t, uv.y + ds.y * t);
@@ -294,7 +295,7 @@ TEST(Cone, RelaxedMarchCrossesTheSurfaceOnceInItsLastStep) {
         c.name.c_str(), inside, static_cast<int>(rs.size()), bad, chapter_bad);
     EXPECT_GT(inside, static_cast<int>(rs.size()) / 2) << c.name;  // the rest stall above a surface
     EXPECT_EQ(bad, 0) << c.name;
-    if (c.name != "smooth") EXPECT_GT(chapter_bad, 0) << c.name;
+    if (c.name != "smooth" && !test::kSanitizedBuild) EXPECT_GT(chapter_bad, 0) << c.name;
   }
 }
 
