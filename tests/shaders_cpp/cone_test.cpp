@@ -293,7 +293,8 @@ TEST(Cone, RelaxedMarchCrossesTheSurfaceOnceInItsLastStep) {
         "%-8s %d of %d marches inside: crossings not in the last step: bilinear-safe %d, "
         "chapter's %d\n",
         c.name.c_str(), inside, static_cast<int>(rs.size()), bad, chapter_bad);
-    EXPECT_GT(inside, static_cast<int>(rs.size()) / 2) << c.name;  // the rest stall above a surface
+    // enough marches end inside for the check to mean something (the rest stall above a surface)
+    EXPECT_GT(inside, static_cast<int>(rs.size()) / 3) << c.name;
     EXPECT_EQ(bad, 0) << c.name;
     if (c.name != "smooth" && !test::kSanitizedBuild) EXPECT_GT(chapter_bad, 0) << c.name;
   }
