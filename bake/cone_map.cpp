@@ -262,25 +262,42 @@ inline void lower(const Destinations& dst, ConeKind kind, int ox, int oy, float 
     if (in[c]) r[c] = std::min(r[c], v);
 }
 
-// Bilinear relaxed cones: can a ray leaving the axis of source cell (x, y) come out of the surface
-// on the patch at offset (ox, oy) (see cone_map.h)? It can only where the patch descends radially,
-// g(q) . (q - p) > 0 for some apex p in the cell and point q of the patch (g: the patch's
-// gradient). In texel units relative to the source texel's centre, the cell is [-1/2, 1/2]^2 and
-// the patch [ox, ox + 1] x [oy, oy + 1]; g(q) . (q - p) is linear in p and bilinear in q, so its
-// maximum over the two squares is at a pair of corners.
-bool patch_may_exit(const Field& f, int x, int y, int ox, int oy) {
-  const float c00 = f.cell(x + ox, y + oy), c10 = f.cell(x + ox + 1, y + oy),
-              c01 = f.cell(x + ox, y + oy + 1), c11 = f.cell(x + ox + 1, y + oy + 1);
-  const float bx = c10 - c00, by = c01 - c00, e = c11 - c10 - c01 + c00;
-  for (int v = 0; v <= 1; ++v)
-    for (int u = 0; u <= 1; ++u) {
-      const float gx = bx + e * static_cast<float>(v), gy = by + e * static_cast<float>(u);
-      const float qx = static_cast<float>(ox + u), qy = static_cast<float>(oy + v);
-      for (float px : {-0.5f, 0.5f})
-        for (float py : {-0.5f, 0.5f})
-          if (gx * (qx - px) + gy * (qy - py) > 0.0f) return true;
+// A bilinear patch between four texel centres: depth c00 + bx a + by b + e a b at local (a, b) in
+// [0, 1]^2 (e: its twist), gradient (bx + e b, by + e a).
+struct Patch {
+  float c00, bx, by, e;
+  Patch(float c00_, float c10, float c01, float c11)
+      : c00(c00_), bx(c10 - c00_), by(c01 - c00_), e(c11 - c10 - c01 + c00_) {}
+  float at(float a, float b) const { return c00 + bx * a + by * b + e * a * b; }
+};
+
+// An axis-aligned box in texel units relative to the source texel's centre.
+struct Box {
+  float u0, v0, u1, v1;
+};
+
+// The radial-descent test of bilinear relaxed cones (see cone_map.h): g(q) . (q - p) > 0 for some
+// q in box `qb` of patch P (local origin at (ou, ov)) and p in box `pb`? The expression is linear
+// in p and bilinear in q, so its maximum over the two boxes is at a pair of corners.
+bool descends_radially(const Patch& P, float ou, float ov, const Box& qb, const Box& pb) {
+  for (float qv : {qb.v0, qb.v1})
+    for (float qu : {qb.u0, qb.u1}) {
+      const float gx = P.bx + P.e * (qv - ov), gy = P.by + P.e * (qu - ou);
+      for (float pu : {pb.u0, pb.u1})
+        for (float pv : {pb.v0, pb.v1})
+          if (gx * (qu - pu) + gy * (qv - pv) > 0.0f) return true;
     }
   return false;
+}
+
+// Bilinear relaxed cones: can a ray leaving the axis of source cell (x, y) come out of the surface
+// on the patch at offset (ox, oy)? Only where the patch descends radially from an apex in the
+// cell: the cell is [-1/2, 1/2]^2 and the patch [ox, ox + 1] x [oy, oy + 1].
+bool patch_may_exit(const Field& f, int x, int y, int ox, int oy) {
+  const Patch P(f.cell(x + ox, y + oy), f.cell(x + ox + 1, y + oy), f.cell(x + ox, y + oy + 1),
+                f.cell(x + ox + 1, y + oy + 1));
+  const float u = static_cast<float>(ox), v = static_cast<float>(oy);
+  return descends_radially(P, u, v, {u, v, u + 1.0f, v + 1.0f}, {-0.5f, -0.5f, 0.5f, 0.5f});
 }
 
 // Does destination (ox, oy) constrain source (x, y)? Always, except for bilinear relaxed cones,
@@ -307,22 +324,22 @@ float relaxed_near_ratio(const Field& f, const Destinations& dst, int x, int y, 
   float c[3][3];  // texel depths around the source, c[1][1] = the source
   for (int j = -1; j <= 1; ++j)
     for (int k = -1; k <= 1; ++k) c[j + 1][k + 1] = f.cell(x + k, y + j);
-  // depth at (u, v) relative to the centre, texel units, |u|, |v| <= 1
-  auto depth = [&](float u, float v) {
-    const int pu = u < 0.0f ? 0 : 1, pv = v < 0.0f ? 0 : 1;  // patch [pu - 1, pu] x [pv - 1, pv]
-    const float a = u - static_cast<float>(pu - 1), b = v - static_cast<float>(pv - 1);
-    const float c00 = c[pv][pu], c10 = c[pv][pu + 1], c01 = c[pv + 1][pu], c11 = c[pv + 1][pu + 1];
-    return c00 + (c10 - c00) * a + (c01 - c00) * b + (c11 - c10 - c01 + c00) * a * b;
+  // the 4 near patches; patch (pu, pv) is [pu - 1, pu] x [pv - 1, pv]
+  auto patch = [&](int pu, int pv) {
+    return Patch(c[pv][pu], c[pv][pu + 1], c[pv + 1][pu], c[pv + 1][pu + 1]);
   };
+  const Patch near[2][2] = {{patch(0, 0), patch(1, 0)}, {patch(0, 1), patch(1, 1)}};
   struct Sq {
-    float u0, v0, u1, v1, lo, hi;
-    int pu, pv;
+    Box box;
+    float lo, hi;  // depth range over the square (bilinear: at its corners)
+    int pu, pv;    // its patch
   };
   auto square = [&](float u0, float v0, float q) {
-    Sq sq{u0, v0, u0 + q, v0 + q, 2.0f, -1.0f, u0 < 0.0f ? 0 : 1, v0 < 0.0f ? 0 : 1};
-    for (float u : {sq.u0, sq.u1})
-      for (float v : {sq.v0, sq.v1}) {
-        const float d = depth(u, v);
+    Sq sq{{u0, v0, u0 + q, v0 + q}, 2.0f, -1.0f, u0 < 0.0f ? 0 : 1, v0 < 0.0f ? 0 : 1};
+    const float ou = static_cast<float>(sq.pu - 1), ov = static_cast<float>(sq.pv - 1);
+    for (float u : {sq.box.u0, sq.box.u1})
+      for (float v : {sq.box.v0, sq.box.v1}) {
+        const float d = near[sq.pv][sq.pu].at(u - ou, v - ov);
         sq.lo = std::min(sq.lo, d);
         sq.hi = std::max(sq.hi, d);
       }
@@ -337,30 +354,21 @@ float relaxed_near_ratio(const Field& f, const Destinations& dst, int x, int y, 
   const float fw = static_cast<float>(f.w), fh = static_cast<float>(f.h);
   float r = R;
   for (const Sq& b : qs) {
-    const float c00 = c[b.pv][b.pu], c10 = c[b.pv][b.pu + 1], c01 = c[b.pv + 1][b.pu],
-                c11 = c[b.pv + 1][b.pu + 1];
-    const float bx = c10 - c00, by = c01 - c00, e = c11 - c10 - c01 + c00;
+    const Patch& P = near[b.pv][b.pu];
+    const float ou = static_cast<float>(b.pu - 1), ov = static_cast<float>(b.pv - 1);
     for (const Sq& a : ps) {
-      if (!(b.lo < a.hi)) continue;
-      bool exits = false;
-      for (float qv : {b.v0, b.v1})
-        for (float qu : {b.u0, b.u1}) {
-          const float gx = bx + e * (qv - static_cast<float>(b.pv - 1)),
-                      gy = by + e * (qu - static_cast<float>(b.pu - 1));
-          for (float pu : {a.u0, a.u1})
-            for (float pv : {a.v0, a.v1}) exits = exits || gx * (qu - pu) + gy * (qv - pv) > 0.0f;
-        }
-      if (!exits) continue;
+      if (!(b.lo < a.hi) || !descends_radially(P, ou, ov, b.box, a.box)) continue;
       if (a.pu == b.pu && a.pv == b.pv) {
-        if (e == 0.0f) continue;
-        const float dx = std::max(std::abs(b.u1 - a.u0), std::abs(a.u1 - b.u0));
-        const float dy = std::max(std::abs(b.v1 - a.v0), std::abs(a.v1 - b.v0));
-        const float twist = 2.0f / std::nextafter(std::abs(e) * std::sqrt(fw * fh * dx * dy), kInf);
+        if (P.e == 0.0f) continue;
+        const float dx = std::max(std::abs(b.box.u1 - a.box.u0), std::abs(a.box.u1 - b.box.u0));
+        const float dy = std::max(std::abs(b.box.v1 - a.box.v0), std::abs(a.box.v1 - b.box.v0));
+        const float twist =
+            2.0f / std::nextafter(std::abs(P.e) * std::sqrt(fw * fh * dx * dy), kInf);
         r = std::min(r, std::max(twist, dst.near[i]));
         continue;
       }
-      const float gu = std::max({0.0f, b.u0 - a.u1, a.u0 - b.u1}),
-                  gv = std::max({0.0f, b.v0 - a.v1, a.v0 - b.v1});
+      const float gu = std::max({0.0f, b.box.u0 - a.box.u1, a.box.u0 - b.box.u1}),
+                  gv = std::max({0.0f, b.box.v0 - a.box.v1, a.box.v0 - b.box.v1});
       if (gu == 0.0f && gv == 0.0f) {
         r = std::min(r, dst.near[i]);
         continue;
@@ -377,12 +385,11 @@ float relaxed_near_ratio(const Field& f, const Destinations& dst, int x, int y, 
 inline float start_texel(const Field& f, const Destinations& dst, ConeKind kind, float R, int x,
                          int y, float* r) {
   const size_t i = static_cast<size_t>(y) * f.w + x;
-  const bool near = dst.patches && kind != ConeKind::kRelaxed;
   if (dst.patches && kind == ConeKind::kRelaxed) {
     r[0] = relaxed_near_ratio(f, dst, x, y, R);
     return dst.apex[i];
   }
-  const float r0 = near ? std::min(R, dst.near[i]) : R;
+  const float r0 = dst.patches ? std::min(R, dst.near[i]) : R;
   for (int c = 0; c < 4; ++c) r[c] = r0;
   return dst.patches ? dst.apex[i] : f.at(x, y);
 }
