@@ -32,6 +32,7 @@ struct BenchArgs {
   std::string techniques;
   std::string fields = "bricks,pattern";
   std::string lod = "level0";
+  std::string search_lod = "quad";
   std::vector<std::string> depth_files;
   float depth_scale = 0.05f;
   bool height = false;
@@ -265,10 +266,15 @@ int do_bench(BenchArgs& a) {
                     2);
       }
   }
+  const std::vector<std::string> search_lods = split(a.search_lod);
+  for (const std::string& l : search_lods)
+    if (l != "quad" && l != "zero" && l != "max-mip")
+      return fail("--search-lod: expected quad, zero or max-mip (comma-separated), got '" + l + "'",
+                  2);
   std::vector<sweep::Setting> settings;
   for (const std::string& t : techniques) {
-    for (sweep::Setting& st :
-         sweep::settings_for(*PluginRegistry::global().find(t), step_counts, a.binary_steps))
+    for (sweep::Setting& st : sweep::settings_for(*PluginRegistry::global().find(t), step_counts,
+                                                  a.binary_steps, search_lods))
       settings.push_back(std::move(st));
   }
   if (target) return do_target(a, opt, settings);
@@ -349,6 +355,10 @@ void register_bench(CLI::App& app, Action& action) {
   sub->add_option("--lod", a->lod,
                   "level0 (depth map without mips), as-rendered (with its mips and the "
                   "material's filter; errors against exact at level 0) or both")
+      ->capture_default_str();
+  sub->add_option("--search-lod", a->search_lod,
+                  "The `lod` parameter of the searches that have one (relief, pom, "
+                  "steep_parallax, relief_quadric): quad, zero, max-mip, comma-separated")
       ->capture_default_str();
   sub->add_option("--depth", a->depth_files, "Also sweep this depth image (repeatable)");
   sub->add_option("--depth-scale", a->depth_scale, "Relief depth of --depth images, uv units")

@@ -611,7 +611,7 @@ int do_render(const RenderArgs& a) {
       std::printf("%s: %dx%d %s on %s, frame %.1f ms", image_file.c_str(), opt.width / k,
                   opt.height / k, scene_name.c_str(), r->device.c_str(), r->frame_ms);
       if (bake.baked > 0)
-        std::printf(", cone-map bake %.0f ms (baked %d, cached %d)", bake.bake_ms, bake.baked,
+        std::printf(", derived-map bake %.0f ms (baked %d, cached %d)", bake.bake_ms, bake.baked,
                     bake.cached());
       else if (bake.disk_hits > 0)
         std::printf(", cone maps from the disk cache %.1f ms (%d)", bake.cache_ms, bake.disk_hits);

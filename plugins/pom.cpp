@@ -8,19 +8,19 @@
 namespace relief {
 namespace {
 
-enum Param { kSteps, kMinSteps, kDepthScaleParam, kShadowStepsParam };
+enum Param { kSteps, kMinSteps, kDepthScaleParam, kShadowStepsParam, kLodParam };
 const ParamSpec kParams[] = {
-    kLinearStepsSpec,
-    kMinStepsSpec,
-    kDepthScaleSpec,
-    kShadowStepsSpec,
+    kLinearStepsSpec, kMinStepsSpec, kDepthScaleSpec, kShadowStepsSpec, kSearchLodSpec,
 };
 
 struct PomSearch : MarchedShadow<kShadowStepsParam> {
   static constexpr int kDepthScale = kDepthScaleParam;
+  static constexpr int kLodParam = Param::kLodParam;
+  static constexpr int kMaxMipSlot = kReliefMaxMipSlot;
   template <class F>
-  static SearchHit<F> search(const ShadeContext& ctx, const FragIn<F>& in, const TextureDepth& depth,
-                             const V3<F>& V, const V2<F>& ds, mask_t<F> active) {
+  static SearchHit<F> search(const ShadeContext& ctx, const FragIn<F>& in,
+                             const TextureDepth& depth, const V3<F>& V, const V2<F>& ds,
+                             mask_t<F> active) {
     const float* p = ctx.material->params;
     return pom_search(depth, in.uv, ds, relief_step_count(V.z, p[kMinSteps], p[kSteps]), active);
   }
@@ -30,10 +30,19 @@ struct PomSearch : MarchedShadow<kShadowStepsParam> {
 
 extern const PluginDescriptor kPomPlugin;
 const PluginDescriptor kPomPlugin = {
-    kPluginAbiVersion, "pom", "parallax occlusion mapping: linear search + secant of the last two samples (Tatarchuk 2006)",
-    kParams, std::size(kParams), kReliefSlots, std::size(kReliefSlots),
+    kPluginAbiVersion,
+    "pom",
+    "parallax occlusion mapping: linear search + secant of the last two samples (Tatarchuk 2006)",
+    kParams,
+    std::size(kParams),
+    kReliefSearchSlots,
+    std::size(kReliefSearchSlots),
     kReliefShellEffects,
-    &select_relief_variant<PomSearch>, &relief_depth_output, nullptr, nullptr, nullptr,
+    &select_relief_variant<PomSearch>,
+    &relief_depth_output,
+    nullptr,
+    nullptr,
+    &reads_max_mip_slot<kLodParam, kReliefMaxMipSlot>,
 };
 
 }  // namespace relief

@@ -1,8 +1,9 @@
 // `relief`: relief mapping, linear then binary search, step count by view angle
-// Policarpo, Oliveira and Comba, "Real-Time Relief Mapping on Arbitrary Polygonal Surfaces", I3D 2005.
-// The search of shaders_cpp/search.h inside the shared shell (plugins/relief_shell.h): the linear
-// step count is mixed between min_steps and steps by the view angle (the paper's shading-model-3
-// note), then binary_steps halvings; the self-shadow ray is the marched one of figure 10.
+// Policarpo, Oliveira and Comba, "Real-Time Relief Mapping on Arbitrary Polygonal Surfaces", I3D
+// 2005. The search of shaders_cpp/search.h inside the shared shell (plugins/relief_shell.h): the
+// linear step count is mixed between min_steps and steps by the view angle (the paper's
+// shading-model-3 note), then binary_steps halvings; the self-shadow ray is the marched one of
+// figure 10.
 #include "plugins/builtin.h"
 #include "plugins/relief_shell.h"
 
@@ -11,11 +12,21 @@ namespace {
 
 using namespace relief_schema;
 
+// relief_schema's parameters and the search's `lod` (relief_dual keeps the schema without it).
+constexpr int kLodParam = static_cast<int>(std::size(relief_schema::kParams));
+const ParamSpec kReliefParams[] = {
+    kParams[kSteps],           kParams[kBinarySteps],      kParams[kMinSteps],
+    kParams[kDepthScaleParam], kParams[kShadowStepsParam], kSearchLodSpec};
+static_assert(std::size(kReliefParams) == kLodParam + 1);
+
 struct ReliefSearch : MarchedShadow<kShadowStepsParam> {
   static constexpr int kDepthScale = kDepthScaleParam;
+  static constexpr int kLodParam = relief::kLodParam;
+  static constexpr int kMaxMipSlot = kReliefMaxMipSlot;
   template <class F>
-  static SearchHit<F> search(const ShadeContext& ctx, const FragIn<F>& in, const TextureDepth& depth,
-                             const V3<F>& V, const V2<F>& ds, mask_t<F> active) {
+  static SearchHit<F> search(const ShadeContext& ctx, const FragIn<F>& in,
+                             const TextureDepth& depth, const V3<F>& V, const V2<F>& ds,
+                             mask_t<F> active) {
     const float* p = ctx.material->params;
     const F n = relief_step_count(V.z, p[kMinSteps], p[kSteps]);
     return relief_search(depth, in.uv, ds, n, static_cast<int>(p[kBinarySteps]), active);
@@ -27,10 +38,19 @@ struct ReliefSearch : MarchedShadow<kShadowStepsParam> {
 // Declared here as well as in the builtin list so the definition has external linkage.
 extern const PluginDescriptor kReliefPlugin;
 const PluginDescriptor kReliefPlugin = {
-    kPluginAbiVersion, "relief", "relief mapping: linear + binary search, self-shadow, depth correction (Policarpo et al. 2005)",
-    kParams, std::size(kParams), kReliefSlots, std::size(kReliefSlots),
+    kPluginAbiVersion,
+    "relief",
+    "relief mapping: linear + binary search, self-shadow, depth correction (Policarpo et al. 2005)",
+    kReliefParams,
+    std::size(kReliefParams),
+    kReliefSearchSlots,
+    std::size(kReliefSearchSlots),
     kReliefShellEffects,
-    &select_relief_variant<ReliefSearch>, &relief_depth_output, nullptr, nullptr, nullptr,
+    &select_relief_variant<ReliefSearch>,
+    &relief_depth_output,
+    nullptr,
+    nullptr,
+    &reads_max_mip_slot<kLodParam, kReliefMaxMipSlot>,
 };
 
 }  // namespace relief

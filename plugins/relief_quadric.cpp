@@ -30,7 +30,8 @@ enum Param {
   kDistanceParam,
   kSearchParam,
   kConeStepsParam,
-  kFallbackStepsParam
+  kFallbackStepsParam,
+  kLodParam
 };
 const ParamSpec kParams[] = {
     {"steps", ParamType::kInt, 32.0f, 1.0f, 256.0f, nullptr,
@@ -46,19 +47,23 @@ const ParamSpec kParams[] = {
     {"cone_steps", ParamType::kInt, 15.0f, 1.0f, 256.0f, nullptr,
      "relaxed cone steps (search=relaxed_cone; GPU Gems 3 ch. 18 uses 15)"},
     kConeFallbackStepsSpec,  // search=relaxed_cone
+    kSearchLodSpec,
 };
 const TextureSlotSpec kSlots[] = {kBaseColorSlotSpec,
                                   kNormalSlotSpec,
                                   kDepthSlotSpec,
                                   {"cone_relaxed", false,
                                    "relaxed cone map for search=relaxed_cone (baked from depth "
-                                   "if absent)"}};
+                                   "if absent)"},
+                                  kMaxMipSlotSpec};
+constexpr int kMaxMipSlot = 4;
 
 bool relaxed_search(const float* params) {
   return params[kSearchParam] >= 0.5f;
 }
 bool reads_texture(const float* params, int slot) {
-  return slot != kConeSlot || relaxed_search(params);
+  return (slot != kConeSlot || relaxed_search(params)) &&
+         reads_max_mip_slot<kLodParam, kMaxMipSlot>(params, slot);
 }
 
 template <EffectMask kEffects>
@@ -83,7 +88,7 @@ struct QuadricKernel {
     const V3<F>&w = view.w, &V = view.V;
     const F depth_scale(m.params[kDepthScaleParam]);
     const mask_t<F> active = covered_lanes(in);
-    const TextureDepth depth = material_depth(m, in);
+    const TextureDepth depth = material_depth(m, in, kLodParam, kMaxMipSlot);
     // seen from the back the surface curves the other way
     const V2<F> q = in.front_facing ? in.quadric : V2<F>(-in.quadric.x, -in.quadric.y);
     const F sz = relief_world_height(depth_scale, in);

@@ -14,6 +14,8 @@
 //   static constexpr int kDepthScale;  // schema index of "depth_scale"
 //   static constexpr bool kSamplesDepthMap = false;  // optional: search and shadow never sample
 //                                                    // `depth` (no per-quad LOD is computed)
+//   static constexpr int kLodParam, kMaxMipSlot;     // optional: the `lod` parameter's index
+//                                                    // and the max-mip slot (material_depth)
 //   // first hit of the ray uv + t * (ds, 1) in depth units; active = covered lanes
 //   template <class F> static SearchHit<F> search(const ShadeContext&, const FragIn<F>&,
 //       const TextureDepth& depth, const V3<F>& view_tangent, const V2<F>& ds, mask_t<F> active);
@@ -39,6 +41,41 @@ inline constexpr TextureSlotSpec kDepthSlotSpec = {
     "depth", true, "depth map: 0 at the reference surface, 1 deepest, linear"};
 inline constexpr TextureSlotSpec kReliefSlots[] = {kBaseColorSlotSpec, kNormalSlotSpec,
                                                    kDepthSlotSpec};
+
+// The LOD the searches read the depth map at (parameter `lod`, an enum of kSearchLodSpec):
+// `quad` the per-quad LOD of the material's depth map and its mips (GL's, what the papers' shaders
+// get), `zero` level 0 only (the true surface at every distance, at the cost of aliasing where a
+// texel is smaller than a pixel), `max-mip` the per-quad LOD of the derived max-mip chain (slot
+// kMaxMipSlotSpec, render/derived_maps.h): the minimum depth over the read's footprint, a surface
+// that never lies below the true one, so a distant search cannot pass through thin walls the
+// averaged mips thin out; its hits sit up to the footprint's relief above the level-0 surface.
+enum class SearchLod { kQuad = 0, kZero = 1, kMaxMip = 2 };
+inline constexpr ParamSpec kSearchLodSpec = {
+    "lod",
+    ParamType::kEnum,
+    0.0f,
+    0.0f,
+    2.0f,
+    "quad|zero|max-mip",
+    "depth LOD of the search and the self-shadow ray: quad (per-quad LOD, the map's mips), zero "
+    "(level 0), max-mip (min depth over the footprint, never below the surface)"};
+inline constexpr TextureSlotSpec kMaxMipSlotSpec = {
+    "depth_max_mip", false,
+    "min-depth chain of depth for lod=max-mip (derived from depth if absent)"};
+// The slots of relief, pom and steep_parallax: the shell's three and the max-mip chain.
+inline constexpr int kReliefMaxMipSlot = 3;
+inline constexpr TextureSlotSpec kReliefSearchSlots[] = {kBaseColorSlotSpec, kNormalSlotSpec,
+                                                         kDepthSlotSpec, kMaxMipSlotSpec};
+
+inline SearchLod search_lod(const float* params, int lod_param) {
+  return static_cast<SearchLod>(static_cast<int>(params[lod_param]));
+}
+// PluginDescriptor::reads_texture of a technique whose `lod` parameter is params[kLod] and whose
+// max-mip slot is kSlot: the chain is read (and derived) only with lod=max-mip.
+template <int kLod, int kSlot>
+bool reads_max_mip_slot(const float* params, int slot) {
+  return slot != kSlot || search_lod(params, kLod) == SearchLod::kMaxMip;
+}
 
 inline constexpr ParamSpec kDepthScaleSpec = {
     "depth_scale", ParamType::kFloat, 0.05f, 0.0f, 1.0f, nullptr, "relief height in uv units"};
@@ -95,18 +132,26 @@ mask_t<F> covered_lanes(const FragIn<F>& in) {
 
 // The material's depth map (slot kDepthSlot) at a constant LOD per quad: the derivatives are per
 // quad, so the LOD is computed at a quad's first lane and copied to the other three. No LOD when
-// the slot is empty (the source must then not be sampled).
+// the slot is empty (the source must then not be sampled). With a `lod` parameter (params index
+// lod_param >= 0): `zero` reads level 0, `max-mip` the chain in slot max_mip_slot at the quad's
+// LOD (the depth map's own when the chain is missing, which the planner never lets happen).
 template <class F>
-TextureDepth material_depth(const MaterialUniforms& m, const FragIn<F>& in) {
+TextureDepth material_depth(const MaterialUniforms& m, const FragIn<F>& in, int lod_param = -1,
+                            int max_mip_slot = -1) {
   TextureDepth depth;
   depth.texture = m.textures[kDepthSlot];
   depth.sampler = &m.samplers[kDepthSlot];
-  if (depth.texture)
-    for (int i = 0; i < lane_width<F>; ++i)
-      depth.lod[i] = (i > 0 && ((in.lane0 + i) & 3) != 0)
-                         ? depth.lod[i - 1]
-                         : compute_lod(*depth.texture, {lane(in.duv_dx.x, i), lane(in.duv_dx.y, i)},
-                                       {lane(in.duv_dy.x, i), lane(in.duv_dy.y, i)});
+  const SearchLod mode = lod_param >= 0 ? search_lod(m.params, lod_param) : SearchLod::kQuad;
+  if (mode == SearchLod::kZero || !depth.texture) return depth;  // lod[] = 0: level 0
+  if (mode == SearchLod::kMaxMip && m.textures[max_mip_slot]) {
+    depth.texture = m.textures[max_mip_slot];
+    depth.sampler = &m.samplers[max_mip_slot];
+  }
+  for (int i = 0; i < lane_width<F>; ++i)
+    depth.lod[i] = (i > 0 && ((in.lane0 + i) & 3) != 0)
+                       ? depth.lod[i - 1]
+                       : compute_lod(*depth.texture, {lane(in.duv_dx.x, i), lane(in.duv_dx.y, i)},
+                                     {lane(in.duv_dy.x, i), lane(in.duv_dy.y, i)});
   return depth;
 }
 
@@ -153,6 +198,23 @@ V3<F> record_hit(const FragIn<F>& in, const ShellView<F>& view, const F& depth_s
                             relief_world_height(depth_scale, in));
 }
 
+// A technique policy's `lod` parameter index and max-mip slot (kLodParam, kMaxMipSlot), -1 when
+// it has none.
+template <class Search>
+constexpr int lod_param_of() {
+  if constexpr (requires { Search::kLodParam; })
+    return Search::kLodParam;
+  else
+    return -1;
+}
+template <class Search>
+constexpr int max_mip_slot_of() {
+  if constexpr (requires { Search::kMaxMipSlot; })
+    return Search::kMaxMipSlot;
+  else
+    return -1;
+}
+
 // Whether a technique policy samples the depth map it is handed (true unless it says otherwise).
 template <class Search>
 constexpr bool samples_depth_map() {
@@ -179,9 +241,10 @@ struct ReliefKernel {
     const F depth_scale(m.params[Search::kDepthScale]);
     const V2<F> ds = texture_step(V, depth_scale);
     const mask_t<F> active = covered_lanes(in);
-    const TextureDepth depth = samples_depth_map<Search>()
-                                   ? material_depth(m, in)
-                                   : TextureDepth{m.textures[kDepthSlot], &m.samplers[kDepthSlot]};
+    const TextureDepth depth =
+        samples_depth_map<Search>()
+            ? material_depth(m, in, lod_param_of<Search>(), max_mip_slot_of<Search>())
+            : TextureDepth{m.textures[kDepthSlot], &m.samplers[kDepthSlot]};
     SearchHit<F> hit{in.uv, F(0.0f), F(0.0f), F(0.0f)};
     if (depth.texture) hit = Search::search(ctx, in, depth, V, ds, active);
     const V3<F> pos = record_hit(in, view, depth_scale, hit, o);

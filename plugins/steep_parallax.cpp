@@ -8,18 +8,22 @@
 namespace relief {
 namespace {
 
-enum Param { kSteps, kDepthScaleParam, kShadowStepsParam };
+enum Param { kSteps, kDepthScaleParam, kShadowStepsParam, kLodParam };
 const ParamSpec kParams[] = {
     {"steps", ParamType::kInt, 32.0f, 1.0f, 256.0f, nullptr, "depth planes"},
     kDepthScaleSpec,
     kShadowStepsSpec,
+    kSearchLodSpec,
 };
 
 struct SteepSearch {
   static constexpr int kDepthScale = kDepthScaleParam;
+  static constexpr int kLodParam = Param::kLodParam;
+  static constexpr int kMaxMipSlot = kReliefMaxMipSlot;
   template <class F>
-  static SearchHit<F> search(const ShadeContext& ctx, const FragIn<F>& in, const TextureDepth& depth,
-                             const V3<F>& V, const V2<F>& ds, mask_t<F> active) {
+  static SearchHit<F> search(const ShadeContext& ctx, const FragIn<F>& in,
+                             const TextureDepth& depth, const V3<F>& V, const V2<F>& ds,
+                             mask_t<F> active) {
     return steep_parallax_search(depth, in.uv, ds, F(ctx.material->params[kSteps]), active);
   }
   template <class F>
@@ -35,10 +39,19 @@ struct SteepSearch {
 
 extern const PluginDescriptor kSteepParallaxPlugin;
 const PluginDescriptor kSteepParallaxPlugin = {
-    kPluginAbiVersion, "steep_parallax", "steep parallax: n depth planes, constant LOD, self-shadow (McGuire & McGuire 2005)",
-    kParams, std::size(kParams), kReliefSlots, std::size(kReliefSlots),
+    kPluginAbiVersion,
+    "steep_parallax",
+    "steep parallax: n depth planes, constant LOD, self-shadow (McGuire & McGuire 2005)",
+    kParams,
+    std::size(kParams),
+    kReliefSearchSlots,
+    std::size(kReliefSearchSlots),
     kReliefShellEffects,
-    &select_relief_variant<SteepSearch>, &relief_depth_output, nullptr, nullptr, nullptr,
+    &select_relief_variant<SteepSearch>,
+    &relief_depth_output,
+    nullptr,
+    nullptr,
+    &reads_max_mip_slot<kLodParam, kReliefMaxMipSlot>,
 };
 
 }  // namespace relief

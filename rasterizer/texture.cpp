@@ -21,16 +21,22 @@ struct FormatInfo {
   const char* name;
 };
 constexpr FormatInfo kFormats[] = {
-    {1, 1, "R8"}, {2, 2, "RG8"}, {4, 4, "RGBA8"}, {1, 2, "R16"},
+    {1, 1, "R8"},   {2, 2, "RG8"},     {4, 4, "RGBA8"}, {1, 2, "R16"},
     {1, 2, "R16F"}, {4, 8, "RGBA16F"}, {1, 4, "R32F"},
 };
 static_assert(std::size(kFormats) == static_cast<size_t>(TexFormat::kR32F) + 1);
 
 }  // namespace
 
-int format_channels(TexFormat f) { return kFormats[static_cast<int>(f)].channels; }
-int format_bytes_per_texel(TexFormat f) { return kFormats[static_cast<int>(f)].bytes; }
-const char* format_name(TexFormat f) { return kFormats[static_cast<int>(f)].name; }
+int format_channels(TexFormat f) {
+  return kFormats[static_cast<int>(f)].channels;
+}
+int format_bytes_per_texel(TexFormat f) {
+  return kFormats[static_cast<int>(f)].bytes;
+}
+const char* format_name(TexFormat f) {
+  return kFormats[static_cast<int>(f)].name;
+}
 
 namespace {
 
@@ -339,7 +345,9 @@ inline float scaled_coord(float u, int size, float offset) {
   return std::min(std::max(x, -kMaxCoord), kMaxCoord);
 }
 
-inline int wrap_coord(int i, int size, Wrap w) { return wrap_texel(i, size, w); }
+inline int wrap_coord(int i, int size, Wrap w) {
+  return wrap_texel(i, size, w);
+}
 
 struct Level {
   const uint8_t* data;
@@ -445,8 +453,12 @@ inline float footprint(const Texture& t, glm::vec2 d) {
 
 }  // namespace
 
-const float* unorm8_table() { return tables().unorm8.data(); }
-const float* srgb8_table() { return tables().srgb8.data(); }
+const float* unorm8_table() {
+  return tables().unorm8.data();
+}
+const float* srgb8_table() {
+  return tables().srgb8.data();
+}
 
 // ---------------------------------------------------------------------------------------------
 // Texture.
@@ -541,6 +553,30 @@ void Texture::generate_mips(MipReduce reduce) {
     src = decode_level(format_, color_space_, levels_.back());
     sw = dw;
     sh = dh;
+  }
+}
+
+void Texture::dilate_mips(MipReduce reduce, Wrap wrap_u, Wrap wrap_v) {
+  if (reduce == MipReduce::kAverage) return;
+  const int ch = format_channels(format_);
+  for (size_t l = 1; l < levels_.size(); ++l) {
+    MipLevel& level = levels_[l];
+    const int w = level.width, h = level.height;
+    const std::vector<float> src = decode_level(format_, color_space_, level);
+    std::vector<float> dst(src.size());
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x)
+        for (int c = 0; c < ch; ++c) {
+          float acc = src[(static_cast<size_t>(y) * w + x) * ch + c];
+          for (int dy = -1; dy <= 1; ++dy)
+            for (int dx = -1; dx <= 1; ++dx) {
+              const int sx = wrap_texel(x + dx, w, wrap_u), sy = wrap_texel(y + dy, h, wrap_v);
+              const float v = src[(static_cast<size_t>(sy) * w + sx) * ch + c];
+              acc = reduce == MipReduce::kMin ? std::min(acc, v) : std::max(acc, v);
+            }
+          dst[(static_cast<size_t>(y) * w + x) * ch + c] = acc;
+        }
+    encode_level(format_, color_space_, dst.data(), static_cast<size_t>(w) * h, level.data);
   }
 }
 

@@ -60,6 +60,14 @@ class Texture {
   // Replaces levels 1.. with a full chain down to 1x1 (non-power-of-two: floor halving, each
   // output texel reduces the 2x2 (or 2x1, 1x2) block that covers it).
   void generate_mips(MipReduce reduce = MipReduce::kAverage);
+  // Replaces every texel of levels 1.. by the minimum (kMin) or maximum (kMax) of itself and its
+  // eight neighbours (wrapped by wrap_u, wrap_v). After generate_mips(kMin) a bilinear read of
+  // level k >= 1 anywhere in the square between four texel centres is then no more than any
+  // level-0 texel under those four texels' blocks, so the level-0 bilinear surface within half a
+  // level-k texel (less half a level-0 texel) of the read point never lies below it: a
+  // conservative min over the read's footprint, for every filter and LOD (derived_maps.h
+  // "depth_max_mip"). kAverage leaves the levels as they are.
+  void dilate_mips(MipReduce reduce, Wrap wrap_u, Wrap wrap_v);
 
   TexFormat format() const { return format_; }
   ColorSpace color_space() const { return color_space_; }

@@ -155,10 +155,47 @@ bool periodic(Wrap w) {
   return w != Wrap::kClamp;
 }
 
+// The max-mip chain of the material's depth (Texture::dilate_mips): level 0 as it is, then the
+// min chain with every texel widened to its 3x3 neighbourhood under the material's wrap. Linear
+// in the texel count (a 1024x1024 map takes milliseconds), so it is kept in memory only.
+Result<DerivedMap> derive_max_mip(const Material& m, const Texture& depth) {
+  const auto t0 = std::chrono::steady_clock::now();
+  Hasher key;
+  key.bytes(kMaxMipSlotName, std::strlen(kMaxMipSlotName));
+  key.value(static_cast<uint32_t>(depth.format()));
+  key.value(m.sampler.wrap_u);
+  key.value(m.sampler.wrap_v);
+  key.value(depth.width(0));
+  key.value(depth.height(0));
+  key.bytes(depth.level(0).data.data(), depth.level(0).data.size());
+  const std::string what = "max-mip chain " + std::to_string(depth.width(0)) + "x" +
+                           std::to_string(depth.height(0)) + " (min depth over each footprint)";
+  std::lock_guard<std::mutex> lock(g_mutex);
+  if (auto hit = memory_cache().find(key.h); hit != memory_cache().end()) {
+    ++g_counters.memory_hits;
+    return DerivedMap{hit->second, std::string(kMaxMipSlotName) + ": " + what +
+                                       ", derived from depth (memory cache)"};
+  }
+  Texture t(depth.format(), depth.width(0), depth.height(0), depth.level(0).data.data(),
+            depth.color_space());
+  t.generate_mips(MipReduce::kMin);
+  t.dilate_mips(MipReduce::kMin, m.sampler.wrap_u, m.sampler.wrap_v);
+  auto tex = std::make_shared<const Texture>(std::move(t));
+  memory_cache()[key.h] = tex;
+  const double ms =
+      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  ++g_counters.baked;
+  g_counters.bake_ms += ms;
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.1f", ms);
+  return DerivedMap{
+      tex, std::string(kMaxMipSlotName) + ": " + what + ", built from depth in " + buf + " ms"};
+}
+
 }  // namespace
 
 bool is_derived_slot(const std::string& slot) {
-  return find_cone_slot(slot) != nullptr;
+  return find_cone_slot(slot) != nullptr || slot == kMaxMipSlotName;
 }
 
 std::string derived_map_cache_dir() {
@@ -186,11 +223,12 @@ void clear_derived_map_memory_cache() {
 
 Result<DerivedMap> derive_map(const Material& m, const std::string& slot) {
   const ConeSlot* cs = find_cone_slot(slot);
-  CHECK(cs != nullptr);
+  CHECK(cs != nullptr || slot == kMaxMipSlotName);
   auto it = m.textures.find("depth");
   if (it == m.textures.end() || !it->second || it->second->empty())
     return Status::error("'" + slot + "' map: no 'depth' texture to bake it from");
   const Texture& depth = *it->second;
+  if (!cs) return derive_max_mip(m, depth);
   ConeBakeOptions o;
   o.kind = cs->kind;
   o.max_ratio = 1.0f;

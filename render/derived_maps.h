@@ -8,6 +8,10 @@
 //   need never to pass the first hit) and relaxed cone maps, of the material's "depth" texture
 //   (level 0, ratios clamped at 1, min-mips; wrap when both sampler axes repeat or mirror --
 //   mirror is baked as repeat -- and clamp otherwise).
+//   "depth_max_mip": the material's depth level 0 with a min chain widened for bilinear reads
+//   (rasterizer/texture.h Texture::dilate_mips), what the searches' `lod=max-mip` reads: at any
+//   LOD it never lies below the level-0 surface over the read's footprint. Built in
+//   milliseconds, so cached in memory only.
 // A material that supplies a texture under that name is used as it is. Otherwise the map comes
 // from, in order: the process's memory cache; the disk cache; a bake (all cores), which is then
 // stored in both. The caches are keyed by a 64-bit hash of the depth texels, their size, the kind
@@ -30,6 +34,8 @@ struct DerivedMap {
   TexturePtr texture;
   std::string note;  // one line for --explain: where the map came from and what it cost
 };
+
+inline constexpr const char* kMaxMipSlotName = "depth_max_mip";
 
 // Whether `slot` names a map derive_map() can make.
 bool is_derived_slot(const std::string& slot);

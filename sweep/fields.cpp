@@ -231,27 +231,35 @@ std::vector<std::string> sweep_techniques() {
 }
 
 std::vector<Setting> settings_for(const PluginDescriptor& plugin, const std::vector<int>& steps,
-                                  int binary_steps) {
+                                  int binary_steps, const std::vector<std::string>& search_lods) {
   std::vector<Setting> out;
   const int binary = param_index(plugin, "binary_steps");
   const bool has_steps = param_index(plugin, "steps") >= 0;
   if (!has_steps) {
     out.push_back({plugin.name, {}, plugin.name, 0});
-    return out;
-  }
-  for (int n : steps) {
-    Setting s{plugin.name, {{"steps", std::to_string(n)}}, "", n};
-    if (param_index(plugin, "min_steps") >= 0) s.params["min_steps"] = std::to_string(n);
-    s.label = std::string(plugin.name) + " " + std::to_string(n);
-    if (binary >= 0 && binary_steps >= 0) {
-      s.params["binary_steps"] = std::to_string(binary_steps);
-      s.label += "+" + std::to_string(binary_steps);
-    } else if (binary >= 0) {
-      s.label += "+" + std::to_string(static_cast<int>(plugin.params[binary].default_value));
+  } else {
+    for (int n : steps) {
+      Setting s{plugin.name, {{"steps", std::to_string(n)}}, "", n};
+      if (param_index(plugin, "min_steps") >= 0) s.params["min_steps"] = std::to_string(n);
+      s.label = std::string(plugin.name) + " " + std::to_string(n);
+      if (binary >= 0 && binary_steps >= 0) {
+        s.params["binary_steps"] = std::to_string(binary_steps);
+        s.label += "+" + std::to_string(binary_steps);
+      } else if (binary >= 0) {
+        s.label += "+" + std::to_string(static_cast<int>(plugin.params[binary].default_value));
+      }
+      out.push_back(std::move(s));
     }
-    out.push_back(std::move(s));
   }
-  return out;
+  if (search_lods.empty() || param_index(plugin, "lod") < 0) return out;
+  std::vector<Setting> with_lods;
+  for (const std::string& lod : search_lods)
+    for (Setting s : out) {
+      s.params["lod"] = lod;
+      if (lod != kSearchLodDefault) s.label += " lod=" + lod;
+      with_lods.push_back(std::move(s));
+    }
+  return with_lods;
 }
 
 namespace {

@@ -105,9 +105,13 @@ struct Setting {
 std::vector<std::string> sweep_techniques();
 // The settings of one technique: one per entry of `steps` when its schema has `steps` (and
 // `min_steps` = steps, a fixed count; `binary_steps` keeps its default, or is `binary_steps`
-// when that is >= 0), else its defaults.
+// when that is >= 0), else its defaults; for a technique with a `lod` parameter (the searches'
+// SearchLod, plugins/relief_shell.h) those again for each of `search_lods` (quad, zero,
+// max-mip; labels gain " lod=zero" etc. except for kSearchLodDefault). Empty: the default LOD.
+inline constexpr const char* kSearchLodDefault = "quad";
 std::vector<Setting> settings_for(const PluginDescriptor& plugin, const std::vector<int>& steps,
-                                  int binary_steps = -1);
+                                  int binary_steps = -1,
+                                  const std::vector<std::string>& search_lods = {});
 
 // The scene for one field at one view angle (degrees from the normal), width x height pixels;
 // `as_rendered`: the depth map with its mips (Field::depth_mips) instead of level 0 alone.

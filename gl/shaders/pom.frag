@@ -8,6 +8,8 @@ const int kSteps = 0;
 const int kMinSteps = 1;
 const int kDepthScale = 2;
 const int kShadowStepsParam = 3;
+#define RELIEF_LOD_PARAM 4  // `lod` (plugins/relief_shell.h SearchLod)
+#define RELIEF_MAX_MIP_SLOT 3  // kReliefMaxMipSlot
 
 #include "relief_shell.glsl"
 

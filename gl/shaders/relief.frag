@@ -9,6 +9,8 @@ const int kBinarySteps = 1;
 const int kMinSteps = 2;
 const int kDepthScale = 3;
 const int kShadowStepsParam = 4;
+#define RELIEF_LOD_PARAM 5  // `lod` (plugins/relief_shell.h SearchLod)
+#define RELIEF_MAX_MIP_SLOT 3  // kReliefMaxMipSlot
 
 #include "relief_shell.glsl"
 

@@ -131,7 +131,7 @@ ShadeOut shade(FragIn in_) {
   vec3 V = to_tangent(tf, w);
   float depth_scale = material.params[kDepthScale];
   vec2 ds = texture_step(V, depth_scale);
-  TextureDepth depth = TextureDepth(0.0);
+  TextureDepth depth = TextureDepth(0.0, false);
   SearchHit hit = SearchHit(in_.uv, 0.0, 0.0, 0.0);
   if (has_texture[kDepthSlot]) {
     // constant LOD per quad, outside the loops

@@ -9,6 +9,7 @@
 // search=relaxed_cone: relaxed cone stepping on the deformed field, bracket-safe (quadric.glsl).
 // Misses discard: no early fragment tests (common.glsl).
 #define RELIEF_MAY_DISCARD 1
+#define RELIEF_MAX_MIP_SLOT 4  // depth_max_mip (lod=max-mip)
 #include "common.glsl"
 #include "ray.glsl"
 #include "search.glsl"
@@ -25,6 +26,7 @@ const int kDistance = 4;
 const int kSearch = 5;
 const int kConeSteps = 6;
 const int kFallbackSteps = 7;
+const int kLod = 8;
 
 const int kBaseColorSlot = 0;
 const int kNormalSlot = 1;
@@ -58,8 +60,7 @@ ShadeOut shade(FragIn in_) {
   vec2 hit_uv = in_.uv;
   if (has_texture[kDepthSlot]) {
     // constant LOD per quad, outside the loops
-    TextureDepth depth =
-        TextureDepth(compute_lod(vec2(textureSize(textures[kDepthSlot], 0)), in_.duv_dx, in_.duv_dy));
+    TextureDepth depth = material_depth(in_, int(material.params[kLod]));
     QuadricRay ray = make_quadric_ray(kind, V, q, in_.tile_scale, sz);
     int m = int(material.params[kBinarySteps]);
     QuadricHit h;

@@ -10,6 +10,8 @@
 //
 // A twin is its policy, as in C++. Before including this file it defines
 //   const int kDepthScale;  // schema index of "depth_scale"
+// and, for a search with a `lod` parameter (the C++ policy's kLodParam and kMaxMipSlot),
+//   #define RELIEF_LOD_PARAM <index>  and  #define RELIEF_MAX_MIP_SLOT <slot>
 // and after it the two hooks declared below (search and shadow). The C++ kernel's template
 // parameter kEffects is the EFFECT_* defines here: one program per combination.
 #include "common.glsl"
@@ -59,11 +61,15 @@ ShadeOut shade(FragIn in_) {
   vec3 V = to_tangent(tf, w);
   float depth_scale = material.params[kDepthScale];
   vec2 ds = texture_step(V, depth_scale);
-  TextureDepth depth = TextureDepth(0.0);
+  TextureDepth depth = TextureDepth(0.0, false);
   SearchHit hit = SearchHit(in_.uv, 0.0, 0.0, 0.0);
   if (has_texture[kDepthSlot]) {
     // constant LOD per quad, outside the loops
-    depth.lod = compute_lod(vec2(textureSize(textures[kDepthSlot], 0)), in_.duv_dx, in_.duv_dy);
+#ifdef RELIEF_LOD_PARAM
+    depth = material_depth(in_, int(material.params[RELIEF_LOD_PARAM]));
+#else
+    depth = material_depth(in_, 0);
+#endif
     hit = search(in_, depth, V, ds);
   }
   o.hit_uv = hit.uv;

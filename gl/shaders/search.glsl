@@ -28,12 +28,32 @@ float compute_lod(vec2 size, vec2 duv_dx, vec2 duv_dy) {
   return isnan(lod) ? 0.0 : clamp(lod, -64.0, 64.0);
 }
 
-// The depth texture at a fixed LOD (computed once per quad, outside the loops).
+// The depth texture at a fixed LOD (computed once per quad, outside the loops): the material's
+// depth map, or for lod=max-mip the derived chain in slot RELIEF_MAX_MIP_SLOT (defined by the
+// twins that have a `lod` parameter). The slot is chosen by constant indices, not by indexing
+// the sampler array with a variable: Mesa 22's llvmpipe crashes compiling that inside the loops.
 struct TextureDepth {
   float lod;
+  bool max_mip;
 };
 float sample_depth(TextureDepth depth, vec2 uv) {
+#ifdef RELIEF_MAX_MIP_SLOT
+  if (depth.max_mip) return textureLod(textures[RELIEF_MAX_MIP_SLOT], uv, depth.lod).r;
+#endif
   return textureLod(textures[kDepthSlot], uv, depth.lod).r;
+}
+
+// plugins/relief_shell.h material_depth: the depth map at the per-quad LOD; a twin with a `lod`
+// parameter passes its mode (SearchLod: 0 quad, 1 zero = level 0, 2 max-mip = the chain at the
+// per-quad LOD; the chain has the depth map's size), others pass 0.
+TextureDepth material_depth(FragIn in_, int mode) {
+  TextureDepth d = TextureDepth(0.0, false);
+  if (mode == 1) return d;
+#ifdef RELIEF_MAX_MIP_SLOT
+  d.max_mip = mode == 2 && has_texture[RELIEF_MAX_MIP_SLOT];
+#endif
+  d.lod = compute_lod(vec2(textureSize(textures[kDepthSlot], 0)), in_.duv_dx, in_.duv_dy);
+  return d;
 }
 
 struct SearchHit {

@@ -7,6 +7,8 @@
 const int kSteps = 0;
 const int kDepthScale = 1;
 const int kShadowStepsParam = 2;
+#define RELIEF_LOD_PARAM 3  // `lod` (plugins/relief_shell.h SearchLod)
+#define RELIEF_MAX_MIP_SLOT 3  // kReliefMaxMipSlot
 
 #include "relief_shell.glsl"
 

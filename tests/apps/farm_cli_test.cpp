@@ -381,7 +381,7 @@ TEST(FarmCli, ConeMapBakeIsReportedApartFromTheFrame) {
                           q(dir / "a.png") + " --stats " + q(dir / "a.json");
   const CliRun first = run_shell(cmd);
   ASSERT_EQ(first.code, 0) << first.out;
-  EXPECT_NE(first.out.find(", cone-map bake "), std::string::npos) << first.out;
+  EXPECT_NE(first.out.find(", derived-map bake "), std::string::npos) << first.out;
   EXPECT_NE(first.out.find("(baked 1, cached 0)"), std::string::npos) << first.out;
   nlohmann::json j = nlohmann::json::parse(slurp(dir / "a.json"));
   EXPECT_EQ(j["bake"]["baked"], 1) << j["bake"];
@@ -392,7 +392,7 @@ TEST(FarmCli, ConeMapBakeIsReportedApartFromTheFrame) {
               j["build"].contains("backends"));
   const CliRun second = run_shell(cmd);
   ASSERT_EQ(second.code, 0) << second.out;
-  EXPECT_EQ(second.out.find("cone-map bake"), std::string::npos) << second.out;
+  EXPECT_EQ(second.out.find("derived-map bake"), std::string::npos) << second.out;
   EXPECT_NE(second.out.find("cone maps from the disk cache"), std::string::npos) << second.out;
   j = nlohmann::json::parse(slurp(dir / "a.json"));
   EXPECT_EQ(j["bake"]["baked"], 0);

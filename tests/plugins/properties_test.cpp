@@ -79,6 +79,12 @@ const Texture& depth_map(const TexCase& c) {
 const Texture* derived_map(const std::string& slot, const TexCase& c) {
   static std::map<std::tuple<std::string, int, int, int>, std::unique_ptr<Texture>> cache;
   auto& out = cache[{slot, c.w, c.h, static_cast<int>(c.content)}];
+  if (!out && slot == kMaxMipSlotName) {  // lod=max-mip's chain (render/derived_maps.h)
+    const Texture& d = depth_map(c);
+    out = std::make_unique<Texture>(d.format(), d.width(), d.height(), d.level(0).data.data());
+    out->generate_mips(MipReduce::kMin);
+    out->dilate_mips(MipReduce::kMin, Wrap::kRepeat, Wrap::kRepeat);
+  }
   if (!out) {
     ConeBakeOptions o;
     o.wrap = true;
@@ -210,6 +216,8 @@ struct PacketCase {
         material.params[i] = c.scale_choice == 0   ? s.min_value
                              : c.scale_choice == 1 ? s.default_value
                                                    : s.max_value;
+      if (std::strcmp(s.name, "lod") == 0)  // the searches' LOD modes, one per case in turn
+        material.params[i] = static_cast<float>(c.seed % 3);
     }
     const Texture& depth = depth_map(c.tex);
     for (int s = 0; s < p.num_textures; ++s) {

@@ -495,6 +495,63 @@ TEST(Texture, MipChainPowerOfTwoAverages2x2Blocks) {
   EXPECT_NEAR(t.fetch_r(3, 0, 0), mean / 32, 1e-6);
 }
 
+// The level-0 bilinear surface's least sample over the square of half-width r texels around
+// (u, v), sampled every 1/8 texel (a read below every sample is what the test asks of it).
+double min_over_square(const Texture& t, const SamplerState& s, double u, double v, double r) {
+  double m = HUGE_VAL;
+  const int n = static_cast<int>(std::lround(r * 8.0));
+  for (int j = -n; j <= n; ++j)
+    for (int i = -n; i <= n; ++i) {
+      const glm::vec2 q(static_cast<float>(u + i / 8.0 / t.width()),
+                        static_cast<float>(v + j / 8.0 / t.height()));
+      m = std::min<double>(m, sample_lod(t, s, q, 0.0f).x);
+    }
+  return m;
+}
+
+// dilate_mips after a min chain: a bilinear read of level k (and a trilinear one between levels)
+// never exceeds the level-0 bilinear surface within 2^(k-1) - 1/2 texels of the read point, for
+// every wrap and for power-of-two and odd sizes. The plain min chain breaks that (its bilinear
+// reads mix a block's minimum with a neighbour's), so the test sees the difference.
+TEST(Texture, DilatedMinMipsAreConservativeOverTheFootprint) {
+  struct Size {
+    int w, h;
+  };
+  for (Size sz : {Size{32, 32}, Size{24, 20}}) {
+    for (Wrap wrap : {Wrap::kRepeat, Wrap::kClamp}) {
+      const std::vector<float> v = random_values(sz.w * sz.h, 29);
+      Texture plain = Texture::from_floats(TexFormat::kR32F, sz.w, sz.h, v.data());
+      plain.generate_mips(MipReduce::kMin);
+      Texture t = plain;
+      t.dilate_mips(MipReduce::kMin, wrap, wrap);
+      ASSERT_EQ(t.levels(), plain.levels());
+      EXPECT_EQ(t.level(0).data, plain.level(0).data);  // level 0 is the surface itself
+      SamplerState s;
+      s.filter = Filter::kTrilinear;
+      s.wrap_u = s.wrap_v = wrap;
+      uint32_t rng = 12345;
+      const auto next = [&rng] {
+        rng = rng * 1664525u + 1013904223u;
+        return (rng >> 8) / 16777216.0;
+      };
+      int plain_violations = 0;
+      for (int k = 1; k < std::min(t.levels(), 4); ++k) {
+        const double r = std::ldexp(1.0, k - 1) - 0.5;
+        for (int i = 0; i < 60; ++i) {
+          const double u = next(), w = next();
+          const float lod = static_cast<float>(k + (i % 3) * 0.25);  // k, k + 1/4, k + 1/2
+          const glm::vec2 p(static_cast<float>(u), static_cast<float>(w));
+          const double floor_ = min_over_square(t, s, u, w, r);
+          EXPECT_LE(sample_lod(t, s, p, lod).x, floor_ + 1e-6)
+              << sz.w << "x" << sz.h << " wrap " << static_cast<int>(wrap) << " lod " << lod;
+          plain_violations += sample_lod(plain, s, p, lod).x > floor_ + 1e-6;
+        }
+      }
+      EXPECT_GT(plain_violations, 0) << "the plain min chain should break the bound";
+    }
+  }
+}
+
 TEST(Texture, MipReductionsOnNonPowerOfTwoSizes) {
   const int w = 5, h = 3;
   const std::vector<float> v = random_values(w * h, 17);

@@ -69,7 +69,7 @@ TEST(Plan, EveryBuiltinSceneListsExactlyTheExpectedPasses) {
       {"cylinder", {"main"}},
       {"torus", {"main"}},
       {"teapot", {"main"}},
-      {"interpenetration", {"main"}},          // its sun casts none
+      {"interpenetration", {"main"}},        // its sun casts none
       {"teatime", {"shadow:spot", "main"}},  // the fill light casts none
       {"impostor", {"main"}},                // its sun casts none
   };
@@ -147,8 +147,26 @@ TEST(Plan, DerivedMapsAreBakedOnlyForTheParametersThatReadThem) {
   ASSERT_NE(r.uniforms.textures[cone_slot(r)], nullptr);
   EXPECT_EQ(r.uniforms.textures[cone_slot(r)]->width(),
             r.uniforms.textures[texture_slot_index(*r.plugin, "depth")]->width());
-  EXPECT_FALSE(says(r, "not baked"));
+  EXPECT_FALSE(says(r, "cone_relaxed: not baked"));
   EXPECT_TRUE(says(r, "cone_relaxed: relaxed cone map"));
+
+  // lod=max-mip's chain: derived only when that mode is chosen, with the depth map's size
+  const auto max_mip_slot = [](const BoundMaterial& m) {
+    return texture_slot_index(*m.plugin, "depth_max_mip");
+  };
+  ASSERT_GE(max_mip_slot(l), 0);
+  EXPECT_EQ(l.uniforms.textures[max_mip_slot(l)], nullptr);
+  EXPECT_TRUE(says(l, "depth_max_mip: not baked"));
+  opt.params = {{"lod", "max-mip"}};
+  const Plan mm = plan_of(*s, opt);
+  const BoundMaterial& b = mm.materials[0];
+  const Texture* chain = b.uniforms.textures[max_mip_slot(b)];
+  ASSERT_NE(chain, nullptr);
+  const Texture* depth = b.uniforms.textures[texture_slot_index(*b.plugin, "depth")];
+  EXPECT_EQ(chain->width(), depth->width());
+  EXPECT_GT(chain->levels(), 1);
+  EXPECT_TRUE(says(b, "depth_max_mip: max-mip chain"));
+  EXPECT_TRUE(says(b, "cone_relaxed: not baked"));
 }
 
 TEST(Plan, RoomPlansReliefCastersAndReceivers) {

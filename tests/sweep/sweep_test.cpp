@@ -470,6 +470,47 @@ TEST(SweepLod, AsRenderedRowsAreMeasuredAgainstLevel0) {
   EXPECT_FALSE(run_sweep({b}, settings({"exact"}, {}), o).ok());
 }
 
+// The searches' `lod` parameter in the sweep (settings_for's search_lods): `zero` drawn with the
+// mip chain is the level-0 row exactly (same hits, same image), and `max-mip`, whose chain never
+// lies below the surface over a read's footprint, puts far fewer hits inside the surface than the
+// averaged mips (`quad`) on `bricks` seen from far enough that the search reads level 3 or so.
+TEST(SweepLod, SearchLodModes) {
+  Options o = tiny({45}, 48);
+  o.lods = {kLodLevel0, kLodAsRendered};
+  const PluginDescriptor* relief = PluginRegistry::global().find("relief");
+  ASSERT_NE(relief, nullptr);
+  const std::vector<Setting> s = settings_for(*relief, {32}, -1, {"quad", "zero", "max-mip"});
+  ASSERT_EQ(s.size(), 3u);
+  EXPECT_EQ(s[0].label, "relief 32+8");
+  EXPECT_EQ(s[1].label, "relief 32+8 lod=zero");
+  EXPECT_EQ(s[2].label, "relief 32+8 lod=max-mip");
+  // a technique without the parameter keeps its one setting
+  EXPECT_EQ(
+      settings_for(*PluginRegistry::global().find("exact"), {32}, -1, {"quad", "zero"}).size(), 1u);
+  Result<SweepResult> r = run_sweep({bricks()}, s, o);
+  ASSERT_TRUE(r.ok()) << r.status().message();
+  std::map<std::pair<std::string, std::string>, const Row*> by;
+  for (const Row& row : r->rows) by[{row.setting, row.lod}] = &row;
+  ASSERT_EQ(by.size(), 6u);
+  const Row& quad0 = *by[{"relief 32+8", kLodLevel0}];
+  const Row& quad = *by[{"relief 32+8", kLodAsRendered}];
+  const Row& zero = *by[{"relief 32+8 lod=zero", kLodAsRendered}];
+  const Row& maxmip = *by[{"relief 32+8 lod=max-mip", kLodAsRendered}];
+  EXPECT_EQ(zero.hit_err_mean, quad0.hit_err_mean);
+  EXPECT_EQ(zero.hit_err_p99, quad0.hit_err_p99);
+  EXPECT_EQ(zero.air_frac, quad0.air_frac);
+  EXPECT_EQ(zero.below_frac, quad0.below_frac);
+  std::printf(
+      "[ measure  ] bricks 45 deg, 48 px, as-rendered: below quad %.4f max-mip %.4f, air "
+      "quad %.4f max-mip %.4f, wrong layer quad %.4f max-mip %.4f\n",
+      quad.below_frac, maxmip.below_frac, quad.air_frac, maxmip.air_frac, quad.wrong_layer_frac,
+      maxmip.wrong_layer_frac);
+  EXPECT_GT(quad.below_frac, 0.05);
+  EXPECT_LT(maxmip.below_frac, 0.25 * quad.below_frac);
+  EXPECT_LT(maxmip.wrong_layer_frac, quad.wrong_layer_frac);
+  EXPECT_GT(maxmip.air_frac, quad.air_frac);  // the price: hits on the footprint's highest point
+}
+
 TEST(SweepReport, NumbersAreForPeople) {
   EXPECT_EQ(format_number(1.57442e-09), "<1e-6");
   EXPECT_EQ(format_number(0.0), "0");
