@@ -5,8 +5,8 @@
 // images says so in its commit and rewrites the file with
 //   RELIEF_UPDATE_GOLDEN=1 build/bin/test_render --gtest_filter='Golden.*'
 // The hashes are those of this repository's Release build with g++ (the CI's compiler): other
-// compilers and the sanitizer builds contract and round floating point differently, so there the
-// test only checks that every listed combination still plans and renders.
+// compilers and the sanitizer builds contract and round floating point differently (and would
+// spend minutes baking cone maps under ASan), so there the test is skipped and says so.
 #include <gtest/gtest.h>
 
 #include <cstdint>
@@ -25,7 +25,7 @@
 namespace relief {
 namespace {
 
-#if defined(__GNUC__) && !defined(__clang__)
+#if defined(__GNUC__) && !defined(__clang__) && defined(NDEBUG)
 constexpr bool kGoldenCompiler = !test::kSanitizedBuild;
 #else
 constexpr bool kGoldenCompiler = false;
@@ -65,6 +65,7 @@ std::map<std::string, std::string> read_golden() {
 }
 
 TEST(Golden, EveryBuiltinSceneAndTechniqueRendersItsRecordedImage) {
+  if (!kGoldenCompiler) GTEST_SKIP() << "golden hashes are those of the Release g++ build";
   const std::map<std::string, std::string> golden = read_golden();
   const bool update = std::getenv("RELIEF_UPDATE_GOLDEN") != nullptr;
   if (!update) ASSERT_FALSE(golden.empty()) << golden_path() << " is missing or empty";
@@ -94,7 +95,6 @@ TEST(Golden, EveryBuiltinSceneAndTechniqueRendersItsRecordedImage) {
     }
   }
   if (update) {
-    ASSERT_TRUE(kGoldenCompiler) << "record golden hashes with the Release g++ build only";
     std::ofstream out(golden_path());
     out << "# scene technique hash (tests/render/golden_test.cpp; '-' = the scene's own "
            "techniques)\n";
@@ -105,16 +105,11 @@ TEST(Golden, EveryBuiltinSceneAndTechniqueRendersItsRecordedImage) {
   for (const auto& [key, hash] : golden) {
     auto it = now.find(key);
     ASSERT_NE(it, now.end()) << key << " is listed but was not rendered";
-    if (kGoldenCompiler) EXPECT_EQ(it->second, hash) << key << ": the image changed";
+    EXPECT_EQ(it->second, hash) << key << ": the image changed";
   }
   for (const auto& [key, hash] : now)
     EXPECT_EQ(golden.count(key), 1u)
         << key << " renders but is not listed (RELIEF_UPDATE_GOLDEN=1)";
-  if (!kGoldenCompiler)
-    std::printf(
-        "[ golden   ] not the recording compiler: %zu combinations planned and rendered, "
-        "hashes not compared\n",
-        now.size());
 }
 
 }  // namespace
