@@ -27,6 +27,8 @@
 // half-planes, so either ratio is safe and the wider one is used.
 #pragma once
 
+#include <cmath>
+
 #include <glm/vec2.hpp>
 #include <glm/vec4.hpp>
 
@@ -177,20 +179,40 @@ inline F half_texel_along(int w, int h, V2<F> ds) {
   return F(0.5f) / vmax(len, F(1e-6f));
 }
 
+// The view ray's fallback ramp (cone_finish, quadric_relaxed_cone_search): fallback step j < ramp
+// = fallback_ramp(k) takes at least min(floor, view_floor / 2^(ramp - j)) instead of floor,
+// so a lane whose march stalled just before a crest (the cone ratio goes to 0 where the surface
+// rises beside the ray) samples its way over the crest in doubling steps: a crest chord as long
+// as its distance from the stall point is sampled inside. Without it the half-texel floor jumped
+// such chords: on the thin-wall field 1 % to 50 % of the view rays landed on a wrong layer
+// (docs/cones.md). Light rays keep their plain floor (the same ramp there bought nothing on the
+// bench's fields at 15 % more fetches).
+inline constexpr int kFallbackRamp = 16;
+// A fallback of k steps ramps over its first min(kFallbackRamp, k / 2), so a short one (the
+// schema allows 1) still takes half-texel steps over most of its length.
+inline int fallback_ramp(int k) {
+  return k / 2 < kFallbackRamp ? k / 2 : kFallbackRamp;
+}
+template <class F>
+inline F ramped_floor(int j, int ramp, const F& floor, const F& view_floor) {
+  return j < ramp ? vmin(floor, view_floor * F(std::ldexp(1.0f, j - ramp))) : floor;
+}
+
 // The bracket-safe end of a cone march on the field it marched (`depth`, the surface the hit is
 // reported on). Lanes whose march sampled a point inside keep [t_out, t] as their bracket. Lanes
 // it left outside (out of steps, a stalled conservative march, or at t_max) fall back to k more
-// cone steps from where it stopped, each at least `floor` = (t_max - t) / k (so they reach
-// t_max), on a view ray (`bottom`) at most `view_floor` (half a texel along the ray: samples
-// that close cannot step over a one-texel wall the way an even split of a grazing ray's rest
-// does); the cone's own step is taken when longer. A view ray those steps leave short of t_max
-// takes k even samples over the rest (one fetch each). t_max ends the fallback: inside on a view
-// ray (depth 1 is under every surface; unsampled), the end of a light ray (no occluder: not
-// found). The first inside sample closes the bracket with the last outside one. Then m halvings
-// (one step, one fetch each) of every found lane's bracket, returning its inside end: every hit
-// is a sample of `depth` at or under the surface whose outside partner lies (t_in - t_out) / 2^m
-// before it, so no hit is reported in the air. Lanes not found return t_max. k >= 1. Counters:
-// the march's, plus one step and two fetches per fallback cone step, one and one per even sample.
+// cone steps from where it stopped, each at least `floor` = (t_max - t) / k, on a view ray
+// (`bottom`) at most `view_floor` (half a texel along the ray: samples that close cannot step
+// over a one-texel wall the way an even split of a grazing ray's rest does) and its first
+// fallback_ramp(k) ramped up from 1/2^16 of that (ramped_floor); the cone's own step is taken when
+// longer. A view ray those steps leave short of t_max takes k even samples over the rest (one
+// fetch each). t_max ends the fallback: inside on a view ray (depth 1 is under every surface;
+// unsampled), the end of a light ray (no occluder: not found). The first inside sample closes
+// the bracket with the last outside one. Then m halvings (one step, one fetch each) of every
+// found lane's bracket, returning its inside end: every hit is a sample of `depth` at or under
+// the surface whose outside partner lies (t_in - t_out) / 2^m before it, so no hit is reported in
+// the air. Lanes not found return t_max. k >= 1. Counters: the march's, plus one step and two
+// fetches per fallback cone step, one and one per even sample.
 template <class F, class Depth, class Cone>
 inline ConeHit<F> cone_finish(const Depth& depth, const Cone& cone, V2<F> uv, V2<F> ds,
                               const ConeMarch<F>& mr, int k, int m, F t_max, bool bottom,
@@ -202,6 +224,7 @@ inline ConeHit<F> cone_finish(const Depth& depth, const Cone& cone, V2<F> uv, V2
   mask_t<F> searching = active & !mr.inside & (mr.t < t_max);
   F floor = (t_max - mr.t) * F(1.0f / static_cast<float>(k));
   if (bottom) floor = vmin(floor, view_floor);
+  const int ramp = fallback_ramp(k);
   F s = mr.t;
   for (int j = 0; j < k && any(searching); ++j) {
     const ConeTexel<F> c = sample_cone_texel(depth, cone, uv + ds * s, searching, steps, fetches);
@@ -212,7 +235,8 @@ inline ConeHit<F> cone_finish(const Depth& depth, const Cone& cone, V2<F> uv, V2
     searching = searching & !in;
     lo = select(searching, s, lo);
     const F den = ray_ratio + c.ratio;
-    const F step = vmax(c.ratio * h / select(den > F(0.0f), den, F(1.0f)), floor);
+    const F step = vmax(c.ratio * h / select(den > F(0.0f), den, F(1.0f)),
+                        bottom ? ramped_floor(j, ramp, floor, view_floor) : floor);
     s = select(searching, vmin(s + step, t_max), s);
     searching = searching & (s < t_max);
   }

@@ -192,7 +192,6 @@ inline QuadricHit<F> quadric_search(const Depth& depth, V2<F> uv, const QuadricR
   return out;
 }
 
-
 // Relaxed cone stepping on the quadric-deformed height field (`search=relaxed_cone`), a
 // combination neither paper has: the relaxed cone map of the flat field (Policarpo and Oliveira,
 // GPU Gems 3 ch. 18; bake/cone_map.h: uv distance per unit of depth) steps the quadric ray.
@@ -210,7 +209,8 @@ inline QuadricHit<F> quadric_search(const Depth& depth, V2<F> uv, const QuadricR
 // (shaders_cpp/cone.h, cone_finish): a lane stops at the first sample inside (map <= D, or t_max
 // on a bottom ray), at t_max (a returning ray: outside there is a silhouette miss), or after n
 // steps. A lane the n steps left outside takes k more cone steps of at least min((t_max - t) / k,
-// view_floor) (half a texel along the ray), then k even samples over what is left of [t, t_max);
+// view_floor) (half a texel along the ray; ramped up from view_floor / 2^16 over the first
+// fallback_ramp(k), cone.h ramped_floor), then k even samples over what is left of [t, t_max);
 // still outside at t_max, a bottom ray is inside there (depth 1), a returning ray a miss. Lanes
 // found inside get m halvings of [last outside sample, first inside sample]: every hit is a
 // sample of `depth` at or under the deformed surface. Counters: one step and two fetches per
@@ -245,7 +245,9 @@ inline QuadricHit<F> quadric_relaxed_cone_search(const Depth& depth, const Cone&
   // the fallback for lanes the march left outside: floored cone steps, then even samples
   const float inv_k = 1.0f / static_cast<float>(k);
   const F floor = vmin((r.t_max - t) * F(inv_k), view_floor);
-  for (int j = 0; j < k && any(marching); ++j) cone_step(marching, floor);
+  const int ramp = fallback_ramp(k);
+  for (int j = 0; j < k && any(marching); ++j)
+    cone_step(marching, ramped_floor(j, ramp, floor, view_floor));
   const F s0 = t, rest = r.t_max - t;
   for (int j = 0; j < k && any(marching); ++j) {
     t = select(marching, s0 + rest * F(static_cast<float>(j) * inv_k), t);

@@ -206,9 +206,18 @@ float half_texel_along(vec2 ds) {
 
 // cone_finish: the bracket-safe end of a march on the material's depth (sample_r_lod_cpu, the
 // field the march read): a lane left outside takes k more cone steps of at least
-// (t_max - t) / k (on a view ray at most view_floor; a view ray they leave short of t_max then
+// (t_max - t) / k (on a view ray at most view_floor, the first fallback_ramp(k) ramped up from
+// 1/2^16 of that); a view ray they leave short of t_max then
 // takes k even samples over the rest), then t_max (inside on a view ray: bottom); m halvings of [last outside, first inside]; returns the inside end, or t_max with
 // found false.
+// shaders_cpp/cone.h fallback_ramp and ramped_floor: fallback step j < ramp = min(16, k / 2) of a
+// view ray takes at least min(floor, view_floor / 2^(ramp - j)) (ldexp: exact powers of two).
+const int kFallbackRamp = 16;
+int fallback_ramp(int k) { return min(k / 2, kFallbackRamp); }
+float ramped_floor(int j, int ramp, float floor_, float view_floor) {
+  return j < ramp ? min(floor_, view_floor * ldexp(1.0, j - ramp)) : floor_;
+}
+
 SearchHit cone_finish(TextureDepth depth, ConeSource cone, vec2 uv, vec2 ds, ConeMarch mr, int k,
                       int m, float t_max, bool bottom, float view_floor, out bool found) {
   float ray_ratio = sqrt(ds.x * ds.x + ds.y * ds.y);
@@ -218,6 +227,7 @@ SearchHit cone_finish(TextureDepth depth, ConeSource cone, vec2 uv, vec2 ds, Con
   bool searching = !mr.inside && mr.t < t_max;
   float floor_ = (t_max - mr.t) * (1.0 / float(k));
   if (bottom) floor_ = min(floor_, view_floor);
+  int ramp = fallback_ramp(k);
   float s = mr.t;
   for (int j = 0; j < k && searching; ++j) {
     ConeTexel c = cone_texel(depth, false, cone, uv + ds * s, steps, fetches);
@@ -229,7 +239,8 @@ SearchHit cone_finish(TextureDepth depth, ConeSource cone, vec2 uv, vec2 ds, Con
     } else {
       lo = s;
       float den = ray_ratio + c.ratio;
-      float step_ = max(c.ratio * h / (den > 0.0 ? den : 1.0), floor_);
+      float step_ = max(c.ratio * h / (den > 0.0 ? den : 1.0),
+                        bottom ? ramped_floor(j, ramp, floor_, view_floor) : floor_);
       s = min(s + step_, t_max);
       searching = s < t_max;
     }

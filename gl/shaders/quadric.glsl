@@ -160,7 +160,8 @@ QuadricHit quadric_search(int kind, TextureDepth depth, vec2 uv, QuadricRay r, f
 // quadric_relaxed_cone_search (search=relaxed_cone): relaxed cone stepping on the deformed field,
 // n steps of the filtered depth and the cone map (cone.glsl, included before this file), each
 // solving r k dt^2 - (rho + r D') dt + r h = 0 for the step to the cone's boundary; a lane left
-// outside takes k floored cone steps (at least min((t_max - t) / k, half a texel along the ray))
+// outside takes k floored cone steps (at least min((t_max - t) / k, half a texel along the ray),
+// ramped up from 1/2^16 of it over the first fallback_ramp(k): cone.glsl ramped_floor)
 // then k even samples of the rest; at t_max a bottom ray is inside, a returning ray a silhouette
 // miss. Then m halvings of [last outside, first inside], all on the filtered depth.
 float quadric_cone_t, quadric_cone_t_out;
@@ -199,8 +200,11 @@ QuadricHit quadric_relaxed_cone_search(int kind, TextureDepth depth, ConeSource 
     marching = quadric_cone_step(kind, depth, cone, uv, r, 0.0, steps, fetches);
   float inv_k = 1.0 / float(k);
   float floor_ = min((r.t_max - quadric_cone_t) * inv_k, half_texel_along(duv));
+  float view_floor = half_texel_along(duv);
+  int ramp = fallback_ramp(k);
   for (int j = 0; j < k && marching; ++j)
-    marching = quadric_cone_step(kind, depth, cone, uv, r, floor_, steps, fetches);
+    marching = quadric_cone_step(kind, depth, cone, uv, r,
+                                 ramped_floor(j, ramp, floor_, view_floor), steps, fetches);
   float s0 = quadric_cone_t, rest = r.t_max - quadric_cone_t;
   for (int j = 0; j < k && marching; ++j) {
     float t = s0 + rest * (float(j) * inv_k);
