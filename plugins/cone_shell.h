@@ -71,8 +71,11 @@ inline constexpr ParamSpec kConeFallbackStepsSpec = {
     "cone steps of at least half a texel (view ray) or a k-th of the rest (light ray) after "
     "`steps` left the ray outside the surface"};
 
-// Depth units an occluder must rise above the shadow ray (as the marched shadow of relief uses).
-inline constexpr float kConeShadowBias = 0.01f;
+// Depth units an occluder must rise above the shadow ray, exact's own (plugins/exact.cpp): the
+// light ray starts at the surface above the hit (ConeFamilySearch::shadow), so the bias covers no
+// search error. (0.01, relief's marched-shadow bias, lit points just under a crest: the thin-wall
+// field's self-shadow was 2.7 % to 4.7 % off exact's, now 0.03 % to 0.04 %.)
+inline constexpr float kConeShadowBias = 0.001f;
 
 // The cone source of slot 3 (TextureCone or QuadTextureCone) at the depth map's LODs; false when
 // the material has no cone map (the search then reports the fragment's own uv at depth 0).
@@ -143,8 +146,13 @@ struct ConeFamilySearch {
     const float* p = ctx.material->params;
     const int n = static_cast<int>(p[kIndex.shadow_steps]);
     const int k = static_cast<int>(p[kIndex.fallback_steps]);
+    // the light ray starts at the surface above the hit (the hit lies at or under it by up to
+    // its last bracket over 2^binary_steps), so the bias needs to cover no search error
+    SearchHit<F> at_surface = hit;
+    at_surface.depth = vmin(hit.depth, sample_depth(depth, hit.uv, lit));
+    o.fetches += detail::count<F>(lit);
     return cone_light_visibility(
-        hit, dl, lz, lit, o, [&](V2<F> uv, V2<F> dir, F t_max, mask_t<F> a) {
+        at_surface, dl, lz, lit, o, [&](V2<F> uv, V2<F> dir, F t_max, mask_t<F> a) {
           aim(cone, dir);
           return cone_occluder_search(depth, cone, uv, dir, n, k, a, t_max);
         });

@@ -27,7 +27,7 @@ const int kFilterBilinear = 1;
 uniform ivec3 texture_sampler[kMaxTextureSlots];
 
 // Depth units an occluder must rise above the shadow ray (plugins/cone_shell.h).
-const float kConeShadowBias = 0.01;
+const float kConeShadowBias = 0.001;
 
 // rasterizer/texture.h wrap_texel (GLSL's % is undefined for negative operands).
 int wrap_texel(int i, int size, int w) {
@@ -287,14 +287,17 @@ SearchHit cone_search(TextureDepth depth, ConeSource cone, vec2 uv, vec2 ds, int
   return cone_finish(depth, cone, uv, ds, mr, k, m, 1.0, true, half_texel_along(ds), found);
 }
 
-// light_ray_shadow + cone_light_visibility: the light ray lowered by kConeShadowBias enters the
-// depth range at uv + dl t_max and is searched down to t_max (cone_occluder_search: the march,
-// then the linear fallback); a sample inside is shadow. Called on lit fragments only (the C++
-// `lit` mask).
+// light_ray_shadow + cone_light_visibility: the light ray from the surface above the hit (one
+// depth fetch), lowered by kConeShadowBias, enters the depth range at uv + dl t_max and is
+// searched down to t_max (cone_occluder_search: the march, then the linear fallback); a sample
+// inside is shadow. Called on lit fragments only (the C++ `lit` mask).
 float cone_light_visibility(TextureDepth depth, ConeSource cone, SearchHit hit, vec2 dl, float lz,
                             int n, int k, inout ShadeOut o) {
   bool lit_side = lz > 0.0;
-  float t_max = hit.depth - kConeShadowBias;
+  // from the surface above the hit (plugins/cone_shell.h): one depth fetch
+  float surface = min(hit.depth, march_depth(depth, false, hit.uv));
+  o.fetches += 1.0;
+  float t_max = surface - kConeShadowBias;
   bool trace = lit_side && t_max > 0.0;
   float vis = lit_side ? 1.0 : 0.0;
   if (!trace) return vis;
