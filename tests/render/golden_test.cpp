@@ -68,7 +68,9 @@ TEST(Golden, EveryBuiltinSceneAndTechniqueRendersItsRecordedImage) {
   if (!kGoldenCompiler) GTEST_SKIP() << "golden hashes are those of the Release g++ build";
   const std::map<std::string, std::string> golden = read_golden();
   const bool update = std::getenv("RELIEF_UPDATE_GOLDEN") != nullptr;
-  if (!update) ASSERT_FALSE(golden.empty()) << golden_path() << " is missing or empty";
+  if (!update) {
+    ASSERT_FALSE(golden.empty()) << golden_path() << " is missing or empty";
+  }
   std::map<std::string, std::string> now;
   std::unique_ptr<Backend> cpu = make_cpu_backend(2);
   for (const BuiltinSceneInfo& info : builtin_scenes()) {
