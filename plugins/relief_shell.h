@@ -198,21 +198,17 @@ V3<F> record_hit(const FragIn<F>& in, const ShellView<F>& view, const F& depth_s
                             relief_world_height(depth_scale, in));
 }
 
-// A technique policy's `lod` parameter index and max-mip slot (kLodParam, kMaxMipSlot), -1 when
-// it has none.
+// A technique policy's `lod` parameter index and max-mip slot (kLodParam, kMaxMipSlot), both -1
+// when it has none.
+struct SearchLodIndex {
+  int param = -1, slot = -1;
+};
 template <class Search>
-constexpr int lod_param_of() {
+constexpr SearchLodIndex search_lod_of() {
   if constexpr (requires { Search::kLodParam; })
-    return Search::kLodParam;
+    return {Search::kLodParam, Search::kMaxMipSlot};
   else
-    return -1;
-}
-template <class Search>
-constexpr int max_mip_slot_of() {
-  if constexpr (requires { Search::kMaxMipSlot; })
-    return Search::kMaxMipSlot;
-  else
-    return -1;
+    return {};
 }
 
 // Whether a technique policy samples the depth map it is handed (true unless it says otherwise).
@@ -243,7 +239,7 @@ struct ReliefKernel {
     const mask_t<F> active = covered_lanes(in);
     const TextureDepth depth =
         samples_depth_map<Search>()
-            ? material_depth(m, in, lod_param_of<Search>(), max_mip_slot_of<Search>())
+            ? material_depth(m, in, search_lod_of<Search>().param, search_lod_of<Search>().slot)
             : TextureDepth{m.textures[kDepthSlot], &m.samplers[kDepthSlot]};
     SearchHit<F> hit{in.uv, F(0.0f), F(0.0f), F(0.0f)};
     if (depth.texture) hit = Search::search(ctx, in, depth, V, ds, active);

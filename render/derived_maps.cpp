@@ -176,11 +176,8 @@ Result<DerivedMap> derive_max_mip(const Material& m, const Texture& depth) {
     return DerivedMap{hit->second, std::string(kMaxMipSlotName) + ": " + what +
                                        ", derived from depth (memory cache)"};
   }
-  Texture t(depth.format(), depth.width(0), depth.height(0), depth.level(0).data.data(),
-            depth.color_space());
-  t.generate_mips(MipReduce::kMin);
-  t.dilate_mips(MipReduce::kMin, m.sampler.wrap_u, m.sampler.wrap_v);
-  auto tex = std::make_shared<const Texture>(std::move(t));
+  auto tex =
+      std::make_shared<const Texture>(max_mip_chain(depth, m.sampler.wrap_u, m.sampler.wrap_v));
   memory_cache()[key.h] = tex;
   const double ms =
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
@@ -196,6 +193,14 @@ Result<DerivedMap> derive_max_mip(const Material& m, const Texture& depth) {
 
 bool is_derived_slot(const std::string& slot) {
   return find_cone_slot(slot) != nullptr || slot == kMaxMipSlotName;
+}
+
+Texture max_mip_chain(const Texture& depth, Wrap wrap_u, Wrap wrap_v) {
+  Texture t(depth.format(), depth.width(0), depth.height(0), depth.level(0).data.data(),
+            depth.color_space());
+  t.generate_mips(MipReduce::kMin);
+  t.dilate_mips(MipReduce::kMin, wrap_u, wrap_v);
+  return t;
 }
 
 std::string derived_map_cache_dir() {

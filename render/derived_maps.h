@@ -43,6 +43,10 @@ bool is_derived_slot(const std::string& slot);
 // The derived map for `slot` of `material`. Error: the material has no usable "depth" texture.
 Result<DerivedMap> derive_map(const Material& material, const std::string& slot);
 
+// The "depth_max_mip" chain of a depth map: level 0 of `depth` in its own format, then
+// generate_mips(kMin) and dilate_mips(kMin, wrap_u, wrap_v) (rasterizer/texture.h).
+Texture max_mip_chain(const Texture& depth, Wrap wrap_u, Wrap wrap_v);
+
 // The disk-cache folder as the environment sets it ("" when there is none).
 std::string derived_map_cache_dir();
 

@@ -80,10 +80,7 @@ const Texture* derived_map(const std::string& slot, const TexCase& c) {
   static std::map<std::tuple<std::string, int, int, int>, std::unique_ptr<Texture>> cache;
   auto& out = cache[{slot, c.w, c.h, static_cast<int>(c.content)}];
   if (!out && slot == kMaxMipSlotName) {  // lod=max-mip's chain (render/derived_maps.h)
-    const Texture& d = depth_map(c);
-    out = std::make_unique<Texture>(d.format(), d.width(), d.height(), d.level(0).data.data());
-    out->generate_mips(MipReduce::kMin);
-    out->dilate_mips(MipReduce::kMin, Wrap::kRepeat, Wrap::kRepeat);
+    out = std::make_unique<Texture>(max_mip_chain(depth_map(c), Wrap::kRepeat, Wrap::kRepeat));
   }
   if (!out) {
     ConeBakeOptions o;
