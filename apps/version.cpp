@@ -1,6 +1,6 @@
 #include "apps/version.h"
 
-#include "rasterizer/simd.h"
+#include "base/simd.h"
 #include "relief_build_info.h"  // RELIEF_GIT_COMMIT, generated (cmake/relief_version.cmake)
 
 #ifndef RELIEF_VERSION

@@ -10,6 +10,10 @@
 // frames with shading are bench_techniques.
 //
 //   build/bin/bench_kernels --benchmark_repetitions=5 --benchmark_report_aggregates_only=true
+#undef HWY_TARGET_INCLUDE
+#define HWY_TARGET_INCLUDE "bench/bench_kernels.cpp"
+#include <hwy/foreach_target.h>  // IWYU pragma: keep
+
 #include <benchmark/benchmark.h>
 
 #include <cmath>
@@ -17,12 +21,14 @@
 #include <random>
 #include <vector>
 
+#include "base/simd.h"
 #include "render/derived_maps.h"
 #include "scene/builtin.h"
 #include "shaders_cpp/cone.h"
 #include "shaders_cpp/exact.h"
 #include "shaders_cpp/search.h"
 
+#if HWY_ONCE
 namespace relief {
 namespace {
 
@@ -173,77 +179,39 @@ void BM_Kernel_Exact(benchmark::State& state) {
   run(state, [&](V2<F8> uv, V2<F8> ds, F8) { return exact_search(field, uv, ds, kAll); });
 }
 
-// The AVX2 loops below run only where the CPU has AVX2 (elsewhere they would stop on SIGILL).
-bool skip_without_avx2(benchmark::State& state) {
-  if (simd_avx2()) return false;
-  state.SkipWithError("no AVX2 on this CPU");
-  return true;
-}
-
-// The depth read alone: kReads lanes at independent uvs read eight at a time (512 8-lane reads)
-// through one TextureDepth, as a search step makes them (no search): from baseline code and from
-// an AVX2 loop. Items are 8-lane reads.
+// The depth read alone: kReads lanes at independent uvs read kLanes at a time through one
+// TextureDepth, as a search step makes them (no search), and the colour read a shaded fragment
+// makes twice (base colour and normal map). Both loops are compiled for every SIMD target (the
+// per-target section at the end of this file) and run at the level in use (base/simd.h;
+// RELIEF_SIMD=baseline|avx2|avx512 picks one): the benchmark's label names it. Items are reads
+// of 8 lanes (a 16-lane read counts as two), so levels compare per fragment.
 constexpr int kReads = 4096;
+float reads_planned(const Texture& t, const SamplerState& s, const float* u, const float* v);
+float reads_unplanned(const Texture& t, const SamplerState& s, const float* u, const float* v);
 template <class Loop>
 void run_reads(benchmark::State& state, Loop&& loop) {
   Fixture& f = fixture();
   f.aim(45.0);
-  const TextureDepth d = depth_source();
   for (auto _ : state) {
-    float sink = loop(d, f.u.data(), f.v.data());
+    float sink = loop(*f.depth, f.sampler, f.u.data(), f.v.data());
     benchmark::DoNotOptimize(sink);
   }
   state.SetItemsProcessed(static_cast<int64_t>(state.iterations()) * (kReads / 8));
+  state.SetLabel(simd_level_name(simd_level()));
 }
-// The sum of the reads, through the plan (kPlanned) or the whole sampler per read (level choice
-// per read, as before RLodPlan).
-template <bool kPlanned>
-[[gnu::always_inline]] inline float sum_reads(const TextureDepth& d, const float* u,
-                                              const float* v) {
-  F8 acc(0.0f);
-  const F8 lod = F8::load(d.lod);
-  for (int i = 0; i < kReads; i += 8) {
-    const V2<F8> uv(F8::load(u + i), F8::load(v + i));
-    if constexpr (kPlanned)
-      acc = acc + d.lanes(uv);
-    else
-      acc = acc + texture_r_lod_dispatch(*d.texture, *d.sampler, uv, lod);
-  }
-  float r[8];
-  acc.store(r);
-  return r[0] + r[7];
+void BM_Kernel_DepthReadUnplanned(benchmark::State& state) {
+  run_reads(state, reads_unplanned);
 }
-float reads_base(const TextureDepth& d, const float* u, const float* v) {
-  return sum_reads<true>(d, u, v);
+void BM_Kernel_DepthRead(benchmark::State& state) {
+  run_reads(state, reads_planned);
 }
-__attribute__((target("avx2"), flatten, noinline)) float reads_avx2(const TextureDepth& d,
-                                                                    const float* u,
-                                                                    const float* v) {
-  return sum_reads<true>(d, u, v);
-}
-__attribute__((target("avx2"), flatten, noinline)) float reads_unplanned_avx2(const TextureDepth& d,
-                                                                              const float* u,
-                                                                              const float* v) {
-  return sum_reads<false>(d, u, v);
-}
-void BM_Kernel_DepthReadBase(benchmark::State& state) {
-  run_reads(state, reads_base);
-}
-void BM_Kernel_DepthReadUnplannedAvx2(benchmark::State& state) {
-  if (!skip_without_avx2(state)) run_reads(state, reads_unplanned_avx2);
-}
-void BM_Kernel_DepthReadAvx2(benchmark::State& state) {
-  if (!skip_without_avx2(state)) run_reads(state, reads_avx2);
-}
-BENCHMARK(BM_Kernel_DepthReadUnplannedAvx2);
-BENCHMARK(BM_Kernel_DepthReadBase);
-BENCHMARK(BM_Kernel_DepthReadAvx2);
+BENCHMARK(BM_Kernel_DepthReadUnplanned);
+BENCHMARK(BM_Kernel_DepthRead);
 
-// The colour read a shaded fragment makes twice (base colour and normal map): texture_grad of a
-// 512 x 512 RGBA8 texture (random texels, sRGB or linear, trilinear, repeat) from an AVX2 loop,
-// one 8-lane read per 2 x 4 pixel packet, packets in 64 x 64 pixel tiles over 1024 x 1024 pixels
-// (as the rasterizer walks them), uv derivatives 1/1024 (magnified: one level) or 1/300 (two
-// levels). Items are 8-lane reads.
+// texture_grad of a 512 x 512 RGBA8 texture (random texels, sRGB or linear, trilinear, repeat),
+// one 8-lane read per 2 x 4 pixel packet (a 16-lane read covers two), packets in 64 x 64 pixel
+// tiles over 1024 x 1024 pixels (as the rasterizer walks them), uv derivatives 1/1024 (magnified:
+// one level) or 1/300 (two levels).
 struct ColorReads {
   Texture texture;
   std::vector<float> u, v;  // 8 lanes per packet
@@ -263,31 +231,18 @@ struct ColorReads {
             }
   }
 };
-__attribute__((target("avx2"), flatten, noinline)) float color_reads_avx2(const ColorReads& c,
-                                                                          float step) {
-  SamplerState s;
-  s.filter = Filter::kTrilinear;
-  const V2<F8> dx(F8(step), F8(0.0f)), dy(F8(0.0f), F8(step));
-  F8 acc(0.0f);
-  for (size_t i = 0; i < c.u.size(); i += 8) {
-    const V2<F8> uv(F8::load(&c.u[i]), F8::load(&c.v[i]));
-    const V4<F8> rgba = texture_grad_dispatch(c.texture, s, uv, dx, dy);
-    acc = acc + rgba.x + rgba.w;
-  }
-  float r[8];
-  acc.store(r);
-  return r[0] + r[7];
-}
-void BM_Kernel_ColorReadAvx2(benchmark::State& state) {
+float color_reads(const Texture& t, const float* u, const float* v, size_t n, float step);
+void BM_Kernel_ColorRead(benchmark::State& state) {
   static const ColorReads srgb(ColorSpace::kSRGB), linear(ColorSpace::kLinear);
-  if (skip_without_avx2(state)) return;
   const ColorReads& c = state.range(0) ? srgb : linear;
   const float step = 1.0f / static_cast<float>(state.range(1));
-  for (auto _ : state) benchmark::DoNotOptimize(color_reads_avx2(c, step));
+  for (auto _ : state)
+    benchmark::DoNotOptimize(color_reads(c.texture, c.u.data(), c.v.data(), c.u.size(), step));
   state.SetItemsProcessed(static_cast<int64_t>(state.iterations()) *
                           static_cast<int64_t>(c.u.size() / 8));
+  state.SetLabel(simd_level_name(simd_level()));
 }
-BENCHMARK(BM_Kernel_ColorReadAvx2)
+BENCHMARK(BM_Kernel_ColorRead)
     ->ArgNames({"srgb", "px_per_uv"})
     ->Args({1, 1024})
     ->Args({0, 1024})
@@ -306,5 +261,73 @@ RELIEF_KERNEL_BENCH(BM_Kernel_Exact);
 
 }  // namespace
 }  // namespace relief
+#endif  // HWY_ONCE
+
+// ---- the read loops, once per SIMD target ----
+HWY_BEFORE_NAMESPACE();
+namespace relief {
+namespace HWY_NAMESPACE {
+
+// The sum of the reads, through the plan (kPlanned) or the whole sampler per read (level choice
+// per read, as before RLodPlan).
+template <bool kPlanned>
+float sum_reads(const Texture& t, const SamplerState& s, const float* u, const float* v, int n) {
+  TextureDepth d;
+  d.texture = &t;
+  d.sampler = &s;
+  FN acc(0.0f);
+  const FN lod = FN::load(d.lod);
+  for (int i = 0; i + kLanes <= n; i += kLanes) {
+    const V2<FN> uv(FN::load(u + i), FN::load(v + i));
+    if constexpr (kPlanned)
+      acc = acc + d.lanes(uv);
+    else
+      acc = acc + texture_r_lod_lanes(t, s, uv, lod);
+  }
+  return lane(acc, 0) + lane(acc, kLanes - 1);
+}
+float reads_planned_target(const Texture& t, const SamplerState& s, const float* u,
+                           const float* v, int n) {
+  return sum_reads<true>(t, s, u, v, n);
+}
+float reads_unplanned_target(const Texture& t, const SamplerState& s, const float* u,
+                             const float* v, int n) {
+  return sum_reads<false>(t, s, u, v, n);
+}
+float color_reads_target(const Texture& t, const float* u, const float* v, size_t n, float step) {
+  SamplerState s;
+  s.filter = Filter::kTrilinear;
+  const V2<FN> dx(FN(step), FN(0.0f)), dy(FN(0.0f), FN(step));
+  FN acc(0.0f);
+  for (size_t i = 0; i + kLanes <= n; i += kLanes) {
+    const V2<FN> uv(FN::load(&u[i]), FN::load(&v[i]));
+    const V4<FN> rgba = texture_grad_lanes(t, s, uv, dx, dy);
+    acc = acc + rgba.x + rgba.w;
+  }
+  return lane(acc, 0) + lane(acc, kLanes - 1);
+}
+
+}  // namespace HWY_NAMESPACE
+}  // namespace relief
+HWY_AFTER_NAMESPACE();
+
+#if HWY_ONCE
+namespace relief {
+namespace {
+HWY_EXPORT(reads_planned_target);
+HWY_EXPORT(reads_unplanned_target);
+HWY_EXPORT(color_reads_target);
+float reads_planned(const Texture& t, const SamplerState& s, const float* u, const float* v) {
+  return HWY_DYNAMIC_DISPATCH(reads_planned_target)(t, s, u, v, kReads);
+}
+float reads_unplanned(const Texture& t, const SamplerState& s, const float* u, const float* v) {
+  return HWY_DYNAMIC_DISPATCH(reads_unplanned_target)(t, s, u, v, kReads);
+}
+float color_reads(const Texture& t, const float* u, const float* v, size_t n, float step) {
+  return HWY_DYNAMIC_DISPATCH(color_reads_target)(t, u, v, n, step);
+}
+}  // namespace
+}  // namespace relief
 
 BENCHMARK_MAIN();
+#endif  // HWY_ONCE

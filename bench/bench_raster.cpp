@@ -10,7 +10,7 @@
 #include <benchmark/benchmark.h>
 
 #include "gl/gl_backend.h"
-#include "rasterizer/simd.h"
+#include "base/simd.h"
 #include "render/render.h"
 #include "scene/builtin.h"
 

@@ -9,7 +9,7 @@ include(CMakePackageConfigHelpers)
 # build the targets first (relief and relief_man for the relief package).
 set(CMAKE_SKIP_INSTALL_ALL_DEPENDENCY ON)
 
-set(RELIEF_EXPORTED_LIBS relief_rasterizer relief_shaders relief_plugins relief_bake relief_scene
+set(RELIEF_EXPORTED_LIBS relief_base relief_rasterizer relief_shaders relief_plugins relief_bake relief_scene
     relief_render relief_gl)
 foreach(lib IN LISTS RELIEF_EXPORTED_LIBS)
   string(REPLACE "relief_" "" short ${lib})
@@ -20,7 +20,7 @@ install(TARGETS ${RELIEF_EXPORTED_LIBS} EXPORT reliefTargets
         ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR} COMPONENT dev)
 install(TARGETS relief RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR} COMPONENT bin)
 # Headers keep their folder so `#include "render/render.h"` reads the same inside and outside.
-foreach(dir rasterizer shaders_cpp plugins bake scene render gl)
+foreach(dir base rasterizer shaders_cpp plugins bake scene render gl)
   install(DIRECTORY ${CMAKE_SOURCE_DIR}/${dir}/ DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/relief/${dir}
           COMPONENT dev FILES_MATCHING PATTERN "*.h")
 endforeach()
@@ -73,7 +73,7 @@ set(CPACK_DEBIAN_BIN_PACKAGE_SHLIBDEPS ON)  # Depends from dpkg-shlibdeps on the
 set(CPACK_DEBIAN_DEV_PACKAGE_NAME relief-dev)
 set(CPACK_DEBIAN_DEV_PACKAGE_SECTION libdevel)
 # The static libraries link these privately; reliefConfig.cmake finds them again.
-set(relief_dev_depends "libglm-dev, libopenimageio-dev, libtinygltf-dev, nlohmann-json3-dev, libmeshoptimizer-dev, libdraco-dev, pkg-config")
+set(relief_dev_depends "libglm-dev, libhwy-dev, libopenimageio-dev, libtinygltf-dev, nlohmann-json3-dev, libmeshoptimizer-dev, libdraco-dev, pkg-config")
 if(RELIEF_GL)
   string(APPEND relief_dev_depends ", libepoxy-dev, libegl-dev")
   # libepoxy opens libEGL at run time, so dpkg-shlibdeps cannot see the GL backend's drivers.

@@ -7,10 +7,16 @@
 // linear steps, and `binary_steps` halvings refine the last bracket, so the hit lies on the
 // surface (Dummer's march alone stops above it when the steps run out). Self-shadow: the light
 // ray, searched the same way without the halvings.
+#undef HWY_TARGET_INCLUDE
+#define HWY_TARGET_INCLUDE "plugins/cone.cpp"
+#include <hwy/foreach_target.h>  // IWYU pragma: keep
+
 #include "plugins/builtin.h"
 #include "plugins/cone_shell.h"
 
+HWY_BEFORE_NAMESPACE();
 namespace relief {
+namespace HWY_NAMESPACE {
 namespace {
 
 enum Param { kSteps, kDepthScaleParam, kShadowStepsParam, kBinaryStepsParam, kFallbackStepsParam };
@@ -24,11 +30,23 @@ using ConeSearch = ConeFamilySearch<TextureCone, kIndex>;
 
 }  // namespace
 
+ShadeFn select_cone(EffectMask e) { return select_relief_variant<ConeSearch>(e); }
+
+}  // namespace HWY_NAMESPACE
+}  // namespace relief
+HWY_AFTER_NAMESPACE();
+
+#if HWY_ONCE
+namespace relief {
+
+RELIEF_SELECT_FOR_EVERY_TARGET(select_cone)
+
 extern const PluginDescriptor kConePlugin;
-const PluginDescriptor kConePlugin = cone_plugin<ConeSearch>(
+const PluginDescriptor kConePlugin = cone_plugin(
     "cone",
     "conservative cone stepping (Dummer 2006): cone map derived from depth, self-shadow, depth "
     "correction",
-    kParams, kSlots);
+    kParams, kSlots, &select_cone_dispatch);
 
 }  // namespace relief
+#endif  // HWY_ONCE

@@ -5,10 +5,16 @@
 // quad-directional cone map of slot 3 (+u, -u, +v, -v; baked from the depth map when absent): each
 // ray uses the wider of the two ratios of its quadrant; then cone_finish as `cone` (fallback linear
 // steps for lanes left above the surface, `binary_steps` halvings). Self-shadow: likewise.
+#undef HWY_TARGET_INCLUDE
+#define HWY_TARGET_INCLUDE "plugins/cone_quad.cpp"
+#include <hwy/foreach_target.h>  // IWYU pragma: keep
+
 #include "plugins/builtin.h"
 #include "plugins/cone_shell.h"
 
+HWY_BEFORE_NAMESPACE();
 namespace relief {
+namespace HWY_NAMESPACE {
 namespace {
 
 enum Param { kSteps, kDepthScaleParam, kShadowStepsParam, kBinaryStepsParam, kFallbackStepsParam };
@@ -22,11 +28,23 @@ using ConeQuadSearch = ConeFamilySearch<QuadTextureCone, kIndex>;
 
 }  // namespace
 
+ShadeFn select_cone_quad(EffectMask e) { return select_relief_variant<ConeQuadSearch>(e); }
+
+}  // namespace HWY_NAMESPACE
+}  // namespace relief
+HWY_AFTER_NAMESPACE();
+
+#if HWY_ONCE
+namespace relief {
+
+RELIEF_SELECT_FOR_EVERY_TARGET(select_cone_quad)
+
 extern const PluginDescriptor kConeQuadPlugin;
-const PluginDescriptor kConeQuadPlugin = cone_plugin<ConeQuadSearch>(
+const PluginDescriptor kConeQuadPlugin = cone_plugin(
     "cone_quad",
     "quad-directional cone stepping (four ratios per texel, GPU Gems 3 ch. 18): self-shadow, "
     "depth correction",
-    kParams, kSlots);
+    kParams, kSlots, &select_cone_quad_dispatch);
 
 }  // namespace relief
+#endif  // HWY_ONCE

@@ -8,12 +8,22 @@
 // derives a missing one from the depth map (render/derived_maps.h): "cone_conservative",
 // "cone_quad" (four ratios +u, -u, +v, -v) or "cone_relaxed". The map has the depth map's size,
 // so the depth map's LOD per quad is the cone map's too.
-#pragma once
+
+#if defined(RELIEF_PLUGINS_CONE_SHELL_H_) == defined(HWY_TARGET_TOGGLE)
+#ifdef RELIEF_PLUGINS_CONE_SHELL_H_
+#undef RELIEF_PLUGINS_CONE_SHELL_H_
+#else
+#define RELIEF_PLUGINS_CONE_SHELL_H_
+#endif
 
 #include "plugins/relief_shell.h"
 #include "shaders_cpp/cone.h"
 
+#include <hwy/highway.h>
+
+HWY_BEFORE_NAMESPACE();
 namespace relief {
+namespace HWY_NAMESPACE {
 
 inline constexpr int kConeSlot = 3;
 
@@ -84,7 +94,7 @@ inline NearestTextureDepth nearest_depth(const TextureDepth& depth) {
   NearestTextureDepth n;
   n.texture = depth.texture;
   n.sampler = cone_sampler(*depth.sampler);
-  for (int i = 0; i < 8; ++i) n.lod[i] = depth.lod[i];
+  for (int i = 0; i < kLanes; ++i) n.lod[i] = depth.lod[i];
   return n;
 }
 
@@ -94,7 +104,7 @@ inline bool make_cone_source(const ShadeContext& ctx, const TextureDepth& depth,
   cone.texture = m.textures[kConeSlot];
   if (!cone.texture) return false;
   cone.sampler = cone_sampler(m.samplers[kConeSlot]);
-  for (int i = 0; i < 8; ++i) cone.lod[i] = depth.lod[i];
+  for (int i = 0; i < kLanes; ++i) cone.lod[i] = depth.lod[i];
   return true;
 }
 
@@ -159,11 +169,13 @@ struct ConeFamilySearch {
   }
 };
 
-// The descriptor of a cone plugin: the shell's variants of `Search`, its schema and slots.
-template <class Search, size_t kNumParams, size_t kNumSlots>
+// The descriptor of a cone plugin: its schema and slots, and `select` (the shell's variants of its
+// search for every SIMD target, RELIEF_SELECT_FOR_EVERY_TARGET in plugins/shading.h).
+template <size_t kNumParams, size_t kNumSlots>
 constexpr PluginDescriptor cone_plugin(const char* name, const char* description,
                                        const ParamSpec (&params)[kNumParams],
-                                       const TextureSlotSpec (&slots)[kNumSlots]) {
+                                       const TextureSlotSpec (&slots)[kNumSlots],
+                                       ShadeFn (*select)(EffectMask)) {
   return {kPluginAbiVersion,
           name,
           description,
@@ -172,11 +184,15 @@ constexpr PluginDescriptor cone_plugin(const char* name, const char* description
           slots,
           static_cast<int>(kNumSlots),
           kReliefShellEffects,
-          &select_relief_variant<Search>,
+          select,
           &relief_depth_output,
           nullptr,
           nullptr,
           nullptr};
 }
 
+}  // namespace HWY_NAMESPACE
 }  // namespace relief
+HWY_AFTER_NAMESPACE();
+
+#endif  // RELIEF_PLUGINS_CONE_SHELL_H_

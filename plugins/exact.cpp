@@ -2,11 +2,17 @@
 // Tevs, Ihrke and Seidel, "Maximum Mipmaps for Fast, Accurate, and Scalable Dynamic Height Field Rendering", I3D 2008 (max-mip traversal; per-cell closed-form patch solve in shaders_cpp/exact.cpp).
 // The max-mip traversal of shaders_cpp/exact.h inside the shared shell (plugins/relief_shell.h);
 // the self-shadow answer is exact too. The max-mip is the plugin's per-material state.
+#undef HWY_TARGET_INCLUDE
+#define HWY_TARGET_INCLUDE "plugins/exact.cpp"
+#include <hwy/foreach_target.h>  // IWYU pragma: keep
+
 #include "plugins/builtin.h"
 #include "plugins/relief_shell.h"
 #include "shaders_cpp/exact.h"
 
+HWY_BEFORE_NAMESPACE();
 namespace relief {
+namespace HWY_NAMESPACE {
 namespace {
 
 enum Param { kDepthScaleParam };
@@ -44,12 +50,24 @@ void destroy_exact(void* s) { delete static_cast<HeightField*>(s); }
 
 }  // namespace
 
+ShadeFn select_exact(EffectMask e) { return select_relief_variant<ExactSearch>(e); }
+
+}  // namespace HWY_NAMESPACE
+}  // namespace relief
+HWY_AFTER_NAMESPACE();
+
+#if HWY_ONCE
+namespace relief {
+
+RELIEF_SELECT_FOR_EVERY_TARGET(select_exact)
+
 extern const PluginDescriptor kExactPlugin;
 const PluginDescriptor kExactPlugin = {
     kPluginAbiVersion, "exact", "exact first hit on the bilinear height field (max-mip traversal + patch solve): the reference",
     kParams, std::size(kParams), kReliefSlots, std::size(kReliefSlots),
     kReliefShellEffects,
-    &select_relief_variant<ExactSearch>, &relief_depth_output, &create_exact, &destroy_exact, nullptr,
+    &select_exact_dispatch, &relief_depth_output, &create_exact, &destroy_exact, nullptr,
 };
 
 }  // namespace relief
+#endif  // HWY_ONCE

@@ -1,9 +1,15 @@
 // `flat`: Lambert and Blinn-Phong over the interpolated normal and a base colour (texture or
 // constant). The baseline every relief technique is compared against.
+#undef HWY_TARGET_INCLUDE
+#define HWY_TARGET_INCLUDE "plugins/flat.cpp"
+#include <hwy/foreach_target.h>  // IWYU pragma: keep
+
 #include "plugins/builtin.h"
 #include "plugins/surface.h"
 
+HWY_BEFORE_NAMESPACE();
 namespace relief {
+namespace HWY_NAMESPACE {
 namespace {
 
 enum FlatSlot { kBaseColorSlot = 0 };
@@ -39,6 +45,15 @@ DepthOutput depth_flat(EffectMask) {
 
 }  // namespace
 
+}  // namespace HWY_NAMESPACE
+}  // namespace relief
+HWY_AFTER_NAMESPACE();
+
+#if HWY_ONCE
+namespace relief {
+
+RELIEF_SELECT_FOR_EVERY_TARGET(select_flat)
+
 const PluginDescriptor kFlatPlugin = {
     kPluginAbiVersion,
     "flat",
@@ -48,7 +63,7 @@ const PluginDescriptor kFlatPlugin = {
     kSlots,
     1,
     kEffectReceiveShadow,
-    &select_flat,
+    &select_flat_dispatch,
     &depth_flat,
     nullptr,
     nullptr,
@@ -56,3 +71,4 @@ const PluginDescriptor kFlatPlugin = {
 };
 
 }  // namespace relief
+#endif  // HWY_ONCE

@@ -1,9 +1,15 @@
 // `normal`: tangent-space normal mapping (Blinn 1978, "Simulation of wrinkled surfaces") with
 // Blinn-Phong lighting: the surface keeps its polygonal position, only the normal follows the map.
+#undef HWY_TARGET_INCLUDE
+#define HWY_TARGET_INCLUDE "plugins/normal.cpp"
+#include <hwy/foreach_target.h>  // IWYU pragma: keep
+
 #include "plugins/builtin.h"
 #include "plugins/surface.h"
 
+HWY_BEFORE_NAMESPACE();
 namespace relief {
+namespace HWY_NAMESPACE {
 namespace {
 
 enum NormalSlot { kBaseColorSlot = 0, kNormalSlot = 1 };
@@ -45,6 +51,15 @@ DepthOutput depth_normal(EffectMask) {
 
 }  // namespace
 
+}  // namespace HWY_NAMESPACE
+}  // namespace relief
+HWY_AFTER_NAMESPACE();
+
+#if HWY_ONCE
+namespace relief {
+
+RELIEF_SELECT_FOR_EVERY_TARGET(select_normal)
+
 const PluginDescriptor kNormalPlugin = {
     kPluginAbiVersion,
     "normal",
@@ -54,7 +69,7 @@ const PluginDescriptor kNormalPlugin = {
     kSlots,
     2,
     kEffectReceiveShadow,
-    &select_normal,
+    &select_normal_dispatch,
     &depth_normal,
     nullptr,
     nullptr,
@@ -62,3 +77,4 @@ const PluginDescriptor kNormalPlugin = {
 };
 
 }  // namespace relief
+#endif  // HWY_ONCE

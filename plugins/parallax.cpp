@@ -2,10 +2,16 @@
 // Kaneko et al., "Detailed shape representation with parallax mapping", ICAT 2001; Welsh, "Parallax mapping with offset limiting", 2004.
 // One depth read and one offset inside the shared shell (plugins/relief_shell.h); the self-shadow
 // ray is the marched one with a larger start offset, since the offset point is only approximate.
+#undef HWY_TARGET_INCLUDE
+#define HWY_TARGET_INCLUDE "plugins/parallax.cpp"
+#include <hwy/foreach_target.h>  // IWYU pragma: keep
+
 #include "plugins/builtin.h"
 #include "plugins/relief_shell.h"
 
+HWY_BEFORE_NAMESPACE();
 namespace relief {
+namespace HWY_NAMESPACE {
 namespace {
 
 enum Param { kDepthScaleParam, kOffsetLimiting, kShadowStepsParam };
@@ -33,12 +39,24 @@ struct ParallaxSearch {
 
 }  // namespace
 
+ShadeFn select_parallax(EffectMask e) { return select_relief_variant<ParallaxSearch>(e); }
+
+}  // namespace HWY_NAMESPACE
+}  // namespace relief
+HWY_AFTER_NAMESPACE();
+
+#if HWY_ONCE
+namespace relief {
+
+RELIEF_SELECT_FOR_EVERY_TARGET(select_parallax)
+
 extern const PluginDescriptor kParallaxPlugin;
 const PluginDescriptor kParallaxPlugin = {
     kPluginAbiVersion, "parallax", "parallax mapping, one offset, optional offset limiting (Kaneko 2001; Welsh 2004)",
     kParams, std::size(kParams), kReliefSlots, std::size(kReliefSlots),
     kReliefShellEffects,
-    &select_relief_variant<ParallaxSearch>, &relief_depth_output, nullptr, nullptr, nullptr,
+    &select_parallax_dispatch, &relief_depth_output, nullptr, nullptr, nullptr,
 };
 
 }  // namespace relief
+#endif  // HWY_ONCE

@@ -2,10 +2,16 @@
 // Tatarchuk, "Dynamic Parallax Occlusion Mapping with Approximate Soft Shadows", I3D 2006.
 // The search of shaders_cpp/search.h inside the shared shell (plugins/relief_shell.h), with the
 // step count mixed by view angle as for relief; the self-shadow ray is the marched one.
+#undef HWY_TARGET_INCLUDE
+#define HWY_TARGET_INCLUDE "plugins/pom.cpp"
+#include <hwy/foreach_target.h>  // IWYU pragma: keep
+
 #include "plugins/builtin.h"
 #include "plugins/relief_shell.h"
 
+HWY_BEFORE_NAMESPACE();
 namespace relief {
+namespace HWY_NAMESPACE {
 namespace {
 
 enum Param { kSteps, kMinSteps, kDepthScaleParam, kShadowStepsParam, kLodParam };
@@ -28,6 +34,17 @@ struct PomSearch : MarchedShadow<kShadowStepsParam> {
 
 }  // namespace
 
+ShadeFn select_pom(EffectMask e) { return select_relief_variant<PomSearch>(e); }
+
+}  // namespace HWY_NAMESPACE
+}  // namespace relief
+HWY_AFTER_NAMESPACE();
+
+#if HWY_ONCE
+namespace relief {
+
+RELIEF_SELECT_FOR_EVERY_TARGET(select_pom)
+
 extern const PluginDescriptor kPomPlugin;
 const PluginDescriptor kPomPlugin = {
     kPluginAbiVersion,
@@ -38,7 +55,7 @@ const PluginDescriptor kPomPlugin = {
     kReliefSearchSlots,
     std::size(kReliefSearchSlots),
     kReliefShellEffects,
-    &select_relief_variant<PomSearch>,
+    &select_pom_dispatch,
     &relief_depth_output,
     nullptr,
     nullptr,
@@ -46,3 +63,4 @@ const PluginDescriptor kPomPlugin = {
 };
 
 }  // namespace relief
+#endif  // HWY_ONCE

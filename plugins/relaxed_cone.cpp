@@ -7,10 +7,16 @@
 // halves from H, half-way to K: not a bracket on every lane); a lane the march left outside first
 // takes `fallback_steps` linear steps (cone_finish). Self-shadow: the light ray, searched the same
 // way without the halvings.
+#undef HWY_TARGET_INCLUDE
+#define HWY_TARGET_INCLUDE "plugins/relaxed_cone.cpp"
+#include <hwy/foreach_target.h>  // IWYU pragma: keep
+
 #include "plugins/builtin.h"
 #include "plugins/cone_shell.h"
 
+HWY_BEFORE_NAMESPACE();
 namespace relief {
+namespace HWY_NAMESPACE {
 namespace {
 
 enum Param { kSteps, kBinarySteps, kDepthScaleParam, kShadowStepsParam, kFallbackStepsParam };
@@ -24,11 +30,23 @@ using RelaxedConeSearch = ConeFamilySearch<TextureCone, kIndex>;
 
 }  // namespace
 
+ShadeFn select_relaxed_cone(EffectMask e) { return select_relief_variant<RelaxedConeSearch>(e); }
+
+}  // namespace HWY_NAMESPACE
+}  // namespace relief
+HWY_AFTER_NAMESPACE();
+
+#if HWY_ONCE
+namespace relief {
+
+RELIEF_SELECT_FOR_EVERY_TARGET(select_relaxed_cone)
+
 extern const PluginDescriptor kRelaxedConePlugin;
-const PluginDescriptor kRelaxedConePlugin = cone_plugin<RelaxedConeSearch>(
+const PluginDescriptor kRelaxedConePlugin = cone_plugin(
     "relaxed_cone",
     "relaxed cone stepping + binary search (Policarpo & Oliveira 2007), bracket-safe: "
     "self-shadow, depth correction",
-    kParams, kSlots);
+    kParams, kSlots, &select_relaxed_cone_dispatch);
 
 }  // namespace relief
+#endif  // HWY_ONCE

@@ -4,10 +4,16 @@
 // linear step count is mixed between min_steps and steps by the view angle (the paper's
 // shading-model-3 note), then binary_steps halvings; the self-shadow ray is the marched one of
 // figure 10.
+#undef HWY_TARGET_INCLUDE
+#define HWY_TARGET_INCLUDE "plugins/relief.cpp"
+#include <hwy/foreach_target.h>  // IWYU pragma: keep
+
 #include "plugins/builtin.h"
 #include "plugins/relief_shell.h"
 
+HWY_BEFORE_NAMESPACE();
 namespace relief {
+namespace HWY_NAMESPACE {
 namespace {
 
 using namespace relief_schema;
@@ -21,7 +27,7 @@ static_assert(std::size(kReliefParams) == kLodParam + 1);
 
 struct ReliefSearch : MarchedShadow<kShadowStepsParam> {
   static constexpr int kDepthScale = kDepthScaleParam;
-  static constexpr int kLodParam = relief::kLodParam;
+  static constexpr int kLodParam = HWY_NAMESPACE::kLodParam;
   static constexpr int kMaxMipSlot = kReliefMaxMipSlot;
   template <class F>
   static SearchHit<F> search(const ShadeContext& ctx, const FragIn<F>& in,
@@ -35,6 +41,17 @@ struct ReliefSearch : MarchedShadow<kShadowStepsParam> {
 
 }  // namespace
 
+ShadeFn select_relief(EffectMask e) { return select_relief_variant<ReliefSearch>(e); }
+
+}  // namespace HWY_NAMESPACE
+}  // namespace relief
+HWY_AFTER_NAMESPACE();
+
+#if HWY_ONCE
+namespace relief {
+
+RELIEF_SELECT_FOR_EVERY_TARGET(select_relief)
+
 // Declared here as well as in the builtin list so the definition has external linkage.
 extern const PluginDescriptor kReliefPlugin;
 const PluginDescriptor kReliefPlugin = {
@@ -46,7 +63,7 @@ const PluginDescriptor kReliefPlugin = {
     kReliefSearchSlots,
     std::size(kReliefSearchSlots),
     kReliefShellEffects,
-    &select_relief_variant<ReliefSearch>,
+    &select_relief_dispatch,
     &relief_depth_output,
     nullptr,
     nullptr,
@@ -54,3 +71,4 @@ const PluginDescriptor kReliefPlugin = {
 };
 
 }  // namespace relief
+#endif  // HWY_ONCE

@@ -9,11 +9,17 @@
 // `normal_back` map is bound, the back layer's. Without `depth_back` the back layer reads 1 and
 // the technique is `relief` with misses discarded. Both depth maps share one size (the back
 // layer is sampled at the front layer's LOD).
+#undef HWY_TARGET_INCLUDE
+#define HWY_TARGET_INCLUDE "plugins/relief_dual.cpp"
+#include <hwy/foreach_target.h>  // IWYU pragma: keep
+
 #include "plugins/builtin.h"
 #include "plugins/relief_shell.h"
 #include "shaders_cpp/dual_depth.h"
 
+HWY_BEFORE_NAMESPACE();
 namespace relief {
+namespace HWY_NAMESPACE {
 namespace {
 
 using namespace relief_schema;  // relief's schema
@@ -144,6 +150,15 @@ ShadeFn select_dual(EffectMask e) {
 
 }  // namespace
 
+}  // namespace HWY_NAMESPACE
+}  // namespace relief
+HWY_AFTER_NAMESPACE();
+
+#if HWY_ONCE
+namespace relief {
+
+RELIEF_SELECT_FOR_EVERY_TARGET(select_dual)
+
 extern const PluginDescriptor kReliefDualPlugin;
 const PluginDescriptor kReliefDualPlugin = {
     kPluginAbiVersion,
@@ -155,7 +170,7 @@ const PluginDescriptor kReliefDualPlugin = {
     kDualSlots,
     std::size(kDualSlots),
     kReliefShellEffects | kEffectSilhouette,
-    &select_dual,
+    &select_dual_dispatch,
     &relief_depth_output,
     nullptr,
     nullptr,
@@ -163,3 +178,4 @@ const PluginDescriptor kReliefDualPlugin = {
 };
 
 }  // namespace relief
+#endif  // HWY_ONCE

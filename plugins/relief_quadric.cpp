@@ -14,12 +14,18 @@
 // relaxed cone map of slot 3 is baked from the depth map only when that search is chosen
 // (reads_texture). Shares with the relief shell (plugins/relief_shell.h) the tangent frame, the
 // per-quad depth LOD, the normal and colour maps and the lights.
+#undef HWY_TARGET_INCLUDE
+#define HWY_TARGET_INCLUDE "plugins/relief_quadric.cpp"
+#include <hwy/foreach_target.h>  // IWYU pragma: keep
+
 #include "plugins/builtin.h"
 #include "plugins/cone_shell.h"
 #include "plugins/relief_shell.h"
 #include "shaders_cpp/quadric.h"
 
+HWY_BEFORE_NAMESPACE();
 namespace relief {
+namespace HWY_NAMESPACE {
 namespace {
 
 enum Param {
@@ -148,6 +154,15 @@ ShadeFn select_quadric(EffectMask e) {
 
 }  // namespace
 
+}  // namespace HWY_NAMESPACE
+}  // namespace relief
+HWY_AFTER_NAMESPACE();
+
+#if HWY_ONCE
+namespace relief {
+
+RELIEF_SELECT_FOR_EVERY_TARGET(select_quadric)
+
 extern const PluginDescriptor kReliefQuadricPlugin;
 const PluginDescriptor kReliefQuadricPlugin = {
     kPluginAbiVersion,
@@ -159,7 +174,7 @@ const PluginDescriptor kReliefQuadricPlugin = {
     kSlots,
     std::size(kSlots),
     kEffectDepthWrite | kEffectShadowPass | kEffectReceiveShadow | kEffectSilhouette,
-    &select_quadric,
+    &select_quadric_dispatch,
     &relief_depth_output,
     nullptr,
     nullptr,
@@ -167,3 +182,4 @@ const PluginDescriptor kReliefQuadricPlugin = {
 };
 
 }  // namespace relief
+#endif  // HWY_ONCE

@@ -26,14 +26,24 @@
 // (MarchedShadow<index> supplies `shadow` for the plain marched ray) and the plugin's descriptor
 // takes `&select_relief_variant<Policy>` and `&relief_depth_output`.
 // Texture slots 0, 1, 2 are base_color, normal and depth in every plugin built on the shell.
-#pragma once
+
+#if defined(RELIEF_PLUGINS_RELIEF_SHELL_H_) == defined(HWY_TARGET_TOGGLE)
+#ifdef RELIEF_PLUGINS_RELIEF_SHELL_H_
+#undef RELIEF_PLUGINS_RELIEF_SHELL_H_
+#else
+#define RELIEF_PLUGINS_RELIEF_SHELL_H_
+#endif
 
 #include "plugins/surface.h"
 #include "shaders_cpp/ray.h"
 #include "shaders_cpp/search.h"
 #include "shaders_cpp/shadow.h"
 
+#include <hwy/highway.h>
+
+HWY_BEFORE_NAMESPACE();
 namespace relief {
+namespace HWY_NAMESPACE {
 
 enum ReliefSlot { kBaseColorSlot = 0, kNormalSlot = 1, kDepthSlot = 2 };
 
@@ -330,4 +340,8 @@ struct MarchedShadow {
   }
 };
 
+}  // namespace HWY_NAMESPACE
 }  // namespace relief
+HWY_AFTER_NAMESPACE();
+
+#endif  // RELIEF_PLUGINS_RELIEF_SHELL_H_

@@ -2,20 +2,31 @@
 //
 // A plugin defines a Kernel with
 //   template <class F> static ShadeOut<F> shade(const ShadeContext&, const FragIn<F>&);
-// and exposes shade_packet<Kernel> as its ShadeFn. shade_packet walks the packet eight lanes (two
-// quads) at a time with F8, or one lane at a time with float when FrameUniforms::scalar_lanes is
-// set, loads the standard varyings (plugins/plugin.h, namespace varying), hands the kernel the
-// per-quad uv derivatives (dFdx/dFdy, coarse), stores colour, depth, discards and AOVs, and adds
-// the kernel's per-lane work counts for covered lanes only. The loop runs as AVX2 or baseline code
-// by simd_level() (rasterizer/simd.h); both give the same bits.
-#pragma once
+// and exposes shade_packet<Kernel> as its ShadeFn. shade_packet walks the packet the SIMD
+// target's kLanes lanes at a time (FN: two quads on AVX2 and baseline, four on AVX-512), or one
+// lane at a time with float when FrameUniforms::scalar_lanes is set, loads the standard varyings
+// (plugins/plugin.h, namespace varying), hands the kernel the per-quad uv derivatives (dFdx/dFdy,
+// coarse), stores colour, depth, discards and AOVs, and adds the kernel's per-lane work counts for
+// covered lanes only. Every target gives the same bits (base/simd.h).
+//
+// Per-target header (shaders_cpp/lanes.h says how); the select macro at the end is not.
+
+#if defined(RELIEF_PLUGINS_SHADING_H_) == defined(HWY_TARGET_TOGGLE)
+#ifdef RELIEF_PLUGINS_SHADING_H_
+#undef RELIEF_PLUGINS_SHADING_H_
+#else
+#define RELIEF_PLUGINS_SHADING_H_
+#endif
 
 #include "plugins/plugin.h"
-#include "rasterizer/simd.h"
 #include "shaders_cpp/frame.h"
 #include "shaders_cpp/sampling.h"
 
+#include <hwy/highway.h>
+
+HWY_BEFORE_NAMESPACE();
 namespace relief {
+namespace HWY_NAMESPACE {
 
 template <class F>
 struct FragIn {
@@ -39,6 +50,9 @@ struct FragIn {
 
 template <class F>
 struct ShadeOut {
+  // User-provided, so that it is compiled for this namespace's target: GCC compiles an implicit
+  // constructor without the target options of the region it is declared in.
+  ShadeOut() {}
   V3<F> color{F(0.0f), F(0.0f), F(0.0f)};
   F alpha = F(1.0f);
   F depth = F(0.0f);  // read when the variant writes depth
@@ -158,52 +172,48 @@ inline ShadeOut<F> resolve_alpha(const MaterialUniforms& m, ShadeOut<F> o) {
 
 }  // namespace detail
 
-namespace detail {
-
+// The ShadeFn of a kernel: the packet walked kLanes lanes (kLanes / 4 quads) at a time with FN,
+// or one lane at a time with float when FrameUniforms::scalar_lanes is set (the reference path);
+// same bits either way. It is compiled for the SIMD target of the enclosing namespace, kernel
+// and all; RELIEF_SELECT_FOR_EVERY_TARGET hands out the right target's copy per draw.
 template <class Kernel>
-[[gnu::always_inline]] inline void shade_packet_body(const ShadeContext& ctx,
-                                                     const FragmentPacket& in, FragmentOutput& out,
-                                                     WorkCounters& wc) {
+void shade_packet(const ShadeContext& ctx, const FragmentPacket& in, FragmentOutput& out,
+                  WorkCounters& wc) {
   const int lanes = in.num_quads * kQuadLanes;
   if (ctx.frame->scalar_lanes) {
     for (int l = 0; l < lanes; ++l) {
       if (!in.coverage[l >> 2]) continue;
-      const FragIn<float> f = load_fragment<float>(in, l);
-      store_out(resolve_alpha(*ctx.material, Kernel::template shade<float>(ctx, f)), in, l, out,
-                wc);
+      const FragIn<float> f = detail::load_fragment<float>(in, l);
+      detail::store_out(detail::resolve_alpha(*ctx.material, Kernel::template shade<float>(ctx, f)),
+                        in, l, out, wc);
     }
     return;
   }
-  for (int l = 0; l < lanes; l += 8) {
-    const FragIn<F8> f = load_fragment<F8>(in, l);
-    store_out(resolve_alpha(*ctx.material, Kernel::template shade<F8>(ctx, f)), in, l, out, wc);
+  static_assert(kPacketLanes % kLanes == 0);
+  for (int l = 0; l < lanes; l += kLanes) {
+    const FragIn<FN> f = detail::load_fragment<FN>(in, l);
+    detail::store_out(detail::resolve_alpha(*ctx.material, Kernel::template shade<FN>(ctx, f)), in,
+                      l, out, wc);
   }
 }
 
-// The 8-lane loop as an AVX2 clone (rasterizer/simd.h) with the kernel flattened under it. The
-// samplers stay out of line (shaders_cpp/sampling_simd.h), which keeps each clone small enough
-// to compile in seconds.
-template <class Kernel>
-RELIEF_AVX2_ENTRY void shade_packet_avx2(const ShadeContext& ctx, const FragmentPacket& in,
-                                         FragmentOutput& out, WorkCounters& wc) {
-  const int lanes = in.num_quads * kQuadLanes;
-  for (int l = 0; l < lanes; l += 8) {
-    const FragIn<F8> f = load_fragment<F8>(in, l);
-    store_out(resolve_alpha(*ctx.material, Kernel::template shade<F8>(ctx, f)), in, l, out, wc);
-  }
-}
-
-}  // namespace detail
-
-// The ShadeFn of a kernel: the 8-lane loop's AVX2 clone where simd_level() says so, else
-// (baseline level, or scalar lanes) the loop as baseline code; same bits either way.
-template <class Kernel>
-void shade_packet(const ShadeContext& ctx, const FragmentPacket& in, FragmentOutput& out,
-                  WorkCounters& wc) {
-  if (simd_avx2() && !ctx.frame->scalar_lanes)
-    detail::shade_packet_avx2<Kernel>(ctx, in, out, wc);
-  else
-    detail::shade_packet_body<Kernel>(ctx, in, out, wc);
-}
-
+}  // namespace HWY_NAMESPACE
 }  // namespace relief
+HWY_AFTER_NAMESPACE();
+
+#endif  // RELIEF_PLUGINS_SHADING_H_
+
+#ifndef RELIEF_PLUGINS_SHADING_H_ONCE
+#define RELIEF_PLUGINS_SHADING_H_ONCE
+// A plugin's PluginDescriptor::select for every SIMD target. In a plugin compiled with
+// hwy/foreach_target.h, define per target (inside relief::HWY_NAMESPACE)
+//   ShadeFn NAME(EffectMask effects) { ... return &shade_packet<...>; }
+// and, once (#if HWY_ONCE, in namespace relief), RELIEF_SELECT_FOR_EVERY_TARGET(NAME): it
+// defines NAME_dispatch, the descriptor's `select`, which returns the packet shader of the SIMD
+// level in use (base/simd.h) when the draw is planned. No vector crosses it.
+#define RELIEF_SELECT_FOR_EVERY_TARGET(NAME)                       \
+  HWY_EXPORT(NAME);                                                \
+  ShadeFn NAME##_dispatch(EffectMask effects) {                    \
+    return HWY_DYNAMIC_DISPATCH(NAME)(effects);                    \
+  }
+#endif  // RELIEF_PLUGINS_SHADING_H_ONCE

@@ -2,10 +2,16 @@
 // McGuire and McGuire, "Steep Parallax Mapping", I3D 2005 poster.
 // The n-plane march of shaders_cpp/search.h inside the shared shell (plugins/relief_shell.h); the
 // self-shadow ray starts one plane above the hit, as the poster's "Self-Shadowing" loop does.
+#undef HWY_TARGET_INCLUDE
+#define HWY_TARGET_INCLUDE "plugins/steep_parallax.cpp"
+#include <hwy/foreach_target.h>  // IWYU pragma: keep
+
 #include "plugins/builtin.h"
 #include "plugins/relief_shell.h"
 
+HWY_BEFORE_NAMESPACE();
 namespace relief {
+namespace HWY_NAMESPACE {
 namespace {
 
 enum Param { kSteps, kDepthScaleParam, kShadowStepsParam, kLodParam };
@@ -37,6 +43,17 @@ struct SteepSearch {
 
 }  // namespace
 
+ShadeFn select_steep(EffectMask e) { return select_relief_variant<SteepSearch>(e); }
+
+}  // namespace HWY_NAMESPACE
+}  // namespace relief
+HWY_AFTER_NAMESPACE();
+
+#if HWY_ONCE
+namespace relief {
+
+RELIEF_SELECT_FOR_EVERY_TARGET(select_steep)
+
 extern const PluginDescriptor kSteepParallaxPlugin;
 const PluginDescriptor kSteepParallaxPlugin = {
     kPluginAbiVersion,
@@ -47,7 +64,7 @@ const PluginDescriptor kSteepParallaxPlugin = {
     kReliefSearchSlots,
     std::size(kReliefSearchSlots),
     kReliefShellEffects,
-    &select_relief_variant<SteepSearch>,
+    &select_steep_dispatch,
     &relief_depth_output,
     nullptr,
     nullptr,
@@ -55,3 +72,4 @@ const PluginDescriptor kSteepParallaxPlugin = {
 };
 
 }  // namespace relief
+#endif  // HWY_ONCE

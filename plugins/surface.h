@@ -2,14 +2,24 @@
 // texture coordinate, with the quad's uv derivatives (texture_grad), and Blinn-Phong lighting with
 // or without the lights' shadow maps. flat, normal and the relief shell (plugins/relief_shell.h)
 // call these, so the slot conventions and the fetch counts are the same everywhere.
-#pragma once
+
+#if defined(RELIEF_PLUGINS_SURFACE_H_) == defined(HWY_TARGET_TOGGLE)
+#ifdef RELIEF_PLUGINS_SURFACE_H_
+#undef RELIEF_PLUGINS_SURFACE_H_
+#else
+#define RELIEF_PLUGINS_SURFACE_H_
+#endif
 
 #include "plugins/shading.h"
 #include "shaders_cpp/lighting.h"
 #include "shaders_cpp/sampling_simd.h"
 #include "shaders_cpp/shadow_map.h"
 
+#include <hwy/highway.h>
+
+HWY_BEFORE_NAMESPACE();
 namespace relief {
+namespace HWY_NAMESPACE {
 
 inline constexpr TextureSlotSpec kBaseColorSlotSpec = {
     "base_color", false, "sRGB base colour, multiplied by the material's base colour"};
@@ -159,4 +169,8 @@ V3<F> finish_surface(const ShadeContext& ctx, const FragIn<F>& in, const V2<F>& 
   return c;
 }
 
+}  // namespace HWY_NAMESPACE
 }  // namespace relief
+HWY_AFTER_NAMESPACE();
+
+#endif  // RELIEF_PLUGINS_SURFACE_H_

@@ -6,14 +6,14 @@
 #include <cstring>
 
 #include "rasterizer/check.h"
-#include "rasterizer/simd.h"
+#include "base/simd.h"
+#include "rasterizer/raster_tile.h"
 
 namespace relief {
 namespace {
 
-constexpr int kSubBits = 8;
-constexpr int64_t kSubOne = 1 << kSubBits;
-constexpr int64_t kHalf = kSubOne / 2;
+using namespace raster_detail;
+
 
 // A vertex after clipping: clip position and varyings, stored by the draw's vertex arena.
 struct ClipVertex {
@@ -29,20 +29,7 @@ struct ScreenVertex {
   uint32_t vary;    // offset of the premultiplied (v / w) varyings in the frame's arena
 };
 
-struct SetupTriangle {
-  int draw;
-  bool front_facing;
-  int x0, y0, x1, y1;          // pixel bounding box, inclusive, inside the viewport
-  int64_t a[3], b[3], c[3];    // edge functions E = a*px + b*py + c in fixed point
-  int64_t bias[3];             // 0 for top-left edges, -1 otherwise
-  uint32_t plane;              // offset in the frame's plane arena: (2 + nv) x {c, dx, dy}
-};
 
-// Attribute planes are evaluated as (c + dx * fx) + dy * fy with fx = px - x0, fy = py - y0 (whole
-// pixel offsets from the triangle's bounding-box origin): a pure function of the pixel, so the
-// image does not depend on tiles or threads. Plane 0 is depth, plane 1 is 1/w, then the varyings
-// premultiplied by 1/w.
-inline constexpr int kPlaneZ = 0, kPlaneIw = 1, kPlaneVary = 2;
 
 // Outcode bits against the clip volume (near, far) and the guard band.
 enum : uint32_t {
@@ -188,17 +175,12 @@ struct Rasterizer::Impl {
   std::vector<uint32_t> codes;             // per-vertex scratch of setup_draw
   std::vector<ScreenVertex> screen;
   std::vector<uint8_t> valid;
-  struct Worker {
-    FragmentPacket packet;
-    FragmentOutput out;
-    int16_t qx[kPacketQuads], qy[kPacketQuads];
-    WorkCounters counters;
-    uint64_t quads = 0;
-  };
   std::vector<std::unique_ptr<Worker>> workers;
   RasterStats stats;
   int width = 0, height = 0, tiles_x = 0, tiles_y = 0, tile = 64;
   float gx = 1.0f, gy = 1.0f;  // guard band in NDC units
+
+  TileGrid grid() const { return {tris, bins, planes.data(), tile, tiles_x}; }
 
   uint32_t outcode(const glm::vec4& c) const { return clip_outcode(c, gx, gy); }
 
@@ -338,206 +320,13 @@ struct Rasterizer::Impl {
     stats.triangles_binned = tris.size();
   }
 
-  void flush(Worker& w, Framebuffer& fb, const DrawCall& dc) {
-    FragmentPacket& p = w.packet;
-    if (p.num_quads == 0) return;
-    FragmentOutput& o = w.out;
-    std::memset(o.discard, 0, sizeof(o.discard));
-    dc.shader(dc.user, p, o, w.counters);
-    w.quads += p.num_quads;
-    const bool write_aov = dc.aov_write && fb.aov_mask != 0;
-    for (int q = 0; q < p.num_quads; ++q) {
-      const uint8_t live = p.coverage[q] & ~o.discard[q];
-      for (int l = 0; l < 4; ++l) {
-        if (!((p.coverage[q] >> l) & 1)) continue;
-        ++w.counters.fragments;
-        if (!((live >> l) & 1)) {
-          ++w.counters.discarded;
-          continue;
-        }
-        const int lane = q * 4 + l;
-        const int x = w.qx[q] + (l & 1), y = w.qy[q] + (l >> 1);
-        float& stored = fb.depth.at(x, y);
-        float z = p.frag_z[lane];
-        if (dc.depth_test != DepthTest::kEarly) {
-          z = o.depth[lane];
-          if (!(z == z)) {  // NaN depth: the fragment is dropped
-            ++w.counters.discarded;
-            continue;
-          }
-          z = std::clamp(z, 0.0f, 1.0f);
-          if (!(z > stored)) continue;
-        }
-        if (dc.depth_write) stored = z;
-        if (dc.color_write) {
-          glm::vec4 c(o.color[0][lane], o.color[1][lane], o.color[2][lane], o.color[3][lane]);
-          for (int k = 0; k < 4; ++k)
-            if (!std::isfinite(c[k])) c[k] = 0.0f;
-          glm::vec4& dst = fb.color.at(x, y);
-          if (dc.blend) {
-            const float a = std::clamp(c.a, 0.0f, 1.0f), keep = 1.0f - a;
-            dst = glm::vec4(c.r * a + dst.r * keep, c.g * a + dst.g * keep,
-                            c.b * a + dst.b * keep, a + dst.a * keep);
-          } else {
-            dst = c;
-          }
-        }
-        if (write_aov) {
-          float* a = fb.aov_at(x, y);
-          for (int k = 0; k < kAovTotalChannels; ++k) {
-            const float v = o.aov[k][lane];
-            a[k] = std::isfinite(v) ? v : 0.0f;
-          }
-        }
-      }
-    }
-    p.num_quads = 0;
-  }
 
-  // Coverage of the quad whose top-left pixel has edge values e[k]: bit l set when lane l is
-  // inside all three edges (top-left rule through the bias).
-  static uint8_t quad_mask(const SetupTriangle& t, const int64_t e[3]) {
-    uint32_t out = 0;
-    for (int k = 0; k < 3; ++k) {
-      const int64_t v = e[k] + t.bias[k], da = t.a[k] * kSubOne, db = t.b[k] * kSubOne;
-      out |= uint32_t(v < 0) | uint32_t(v + da < 0) << 1 | uint32_t(v + db < 0) << 2 |
-             uint32_t(v + da + db < 0) << 3;
-    }
-    return static_cast<uint8_t>(~out & 0xf);
-  }
 
-  // Walks the part of triangle t inside the tile [tx0, tx1] x [ty0, ty1], two quads (8 lanes) at
-  // a time: coverage from the exact edge functions (skipped when the whole rectangle is inside),
-  // depth and varyings from the float planes, early depth test, packets of up to 16 quads.
-  [[gnu::always_inline]] inline void raster_triangle(Worker& w, Framebuffer& fb, const DrawCall& dc,
-                                                     const SetupTriangle& t, int tx0, int ty0,
-                                                     int tx1, int ty1) {
-    const int nv = dc.num_varyings;
-    FragmentPacket& p = w.packet;
-    p.num_quads = 0;
-    p.num_varyings = nv;
-    p.front_facing = t.front_facing;
-    const int x0 = std::max(t.x0, tx0) & ~1, y0 = std::max(t.y0, ty0) & ~1;
-    const int x1 = std::min(t.x1, tx1), y1 = std::min(t.y1, ty1);
-    if (x0 > x1 || y0 > y1) return;
-    // The pixel rectangle is inside every edge when its four corner pixels are; outside when all
-    // four are outside one edge.
-    bool inside = true;
-    for (int k = 0; k < 3; ++k) {
-      int outside = 0;
-      for (int c = 0; c < 4; ++c) {
-        const int64_t px = int64_t(c & 1 ? x1 : x0) * kSubOne + kHalf;
-        const int64_t py = int64_t(c & 2 ? y1 : y0) * kSubOne + kHalf;
-        outside += t.a[k] * px + t.b[k] * py + t.c[k] + t.bias[k] < 0;
-      }
-      if (outside == 4) return;
-      inside &= outside == 0;
-    }
-    const bool early = dc.depth_test != DepthTest::kLate;
-    const float* pl = &planes[t.plane];
-    const v8f kDx = {0, 1, 0, 1, 2, 3, 2, 3}, kDy = {0, 0, 1, 1, 0, 0, 1, 1};
-    const v8i kHigh = {4, 5, 6, 7, 4, 5, 6, 7};
-    const int dw = fb.depth.width;
-    float* depth = fb.depth.values.data();
-    for (int qy = y0; qy <= y1; qy += 2) {
-      const uint8_t rowm = qy + 1 <= y1 ? 0xf : 0x3;
-      int64_t erow[3];
-      for (int k = 0; k < 3; ++k)
-        erow[k] = t.a[k] * (int64_t(x0) * kSubOne + kHalf) +
-                  t.b[k] * (int64_t(qy) * kSubOne + kHalf) + t.c[k];
-      const v8f fy = static_cast<float>(qy - t.y0) + kDy;
-      for (int qx = x0; qx <= x1; qx += 4) {
-        const bool has_b = qx + 2 <= x1;
-        uint8_t m0 = rowm & (qx + 1 <= x1 ? 0xf : 0x5);
-        uint8_t m1 = has_b ? rowm & (qx + 3 <= x1 ? 0xf : 0x5) : 0;
-        if (!inside) {
-          int64_t e[3];
-          for (int k = 0; k < 3; ++k) e[k] = erow[k] + t.a[k] * int64_t(qx - x0) * kSubOne;
-          m0 &= quad_mask(t, e);
-          if (has_b) {
-            for (int k = 0; k < 3; ++k) e[k] += t.a[k] * 2 * kSubOne;
-            m1 &= quad_mask(t, e);
-          }
-          if (!(m0 | m1)) continue;
-        }
-        const v8f fx = static_cast<float>(qx - t.x0) + kDx;
-        v8f z = (pl[0] + pl[1] * fx) + pl[2] * fy;
-        z = z < 0.0f ? 0.0f : z;
-        z = z > 1.0f ? 1.0f : z;
-        if (early) {
-          const float* r0 = depth + size_t(qy) * dw + qx;
-          const float* r1 = r0 + dw;
-          v8f d;
-          // Only pixels of this tile (x1, y1 are clipped to it): a quad pair may reach past the
-          // tile's edge into pixels another thread is clearing or writing (ThreadSanitizer found
-          // it); those lanes are masked off, so what they read does not matter.
-          if (qx + 3 <= x1 && qy + 1 <= y1) {
-            d = v8f{r0[0], r0[1], r1[0], r1[1], r0[2], r0[3], r1[2], r1[3]};
-          } else {
-            for (int l = 0; l < 8; ++l) {
-              const int x = qx + (l & 1) + (l >> 2) * 2, y = qy + ((l >> 1) & 1);
-              d[l] = x <= x1 && y <= y1 ? depth[size_t(y) * dw + x] : 1.0f;
-            }
-          }
-          const v8i pass = z > d;
-          uint8_t bits0 = 0, bits1 = 0;
-          for (int l = 0; l < 4; ++l) {
-            bits0 |= (pass[l] & 1) << l;
-            bits1 |= (pass[l + 4] & 1) << l;
-          }
-          m0 &= bits0;
-          m1 &= bits1;
-          if (!(m0 | m1)) continue;
-        }
-        v8f iw = (pl[3] + pl[4] * fx) + pl[5] * fy;
-        iw = iw < 1e-30f ? 1e-30f : iw;  // helper lanes far outside may pass the horizon
-        const v8f wv = 1.0f / iw;
-        if (p.num_quads > kPacketQuads - 2) flush(w, fb, dc);
-        const int q = p.num_quads;
-        const bool shift = m0 == 0;  // only the right quad: move lanes 4..7 down
-        const size_t lane0 = size_t(q) * 4;
-        auto put = [&](float* dst, v8f v) {
-          if (shift) v = __builtin_shuffle(v, kHigh);
-          std::memcpy(dst + lane0, &v, sizeof v);
-        };
-        put(p.frag_x, static_cast<float>(qx) + 0.5f + kDx);
-        put(p.frag_y, static_cast<float>(qy) + 0.5f + kDy);
-        put(p.frag_z, z);
-        put(p.inv_w, iw);
-        for (int k = 0; k < nv; ++k) {
-          const float* c = pl + 3 * (kPlaneVary + k);
-          put(p.varyings[k], ((c[0] + c[1] * fx) + c[2] * fy) * wv);
-        }
-        if (m0) {
-          p.coverage[q] = m0;
-          w.qx[q] = static_cast<int16_t>(qx);
-          w.qy[q] = static_cast<int16_t>(qy);
-        }
-        if (m1) {
-          const int q1 = m0 ? q + 1 : q;
-          p.coverage[q1] = m1;
-          w.qx[q1] = static_cast<int16_t>(qx + 2);
-          w.qy[q1] = static_cast<int16_t>(qy);
-        }
-        p.num_quads += (m0 != 0) + (m1 != 0);
-      }
-    }
-    flush(w, fb, dc);
-  }
-
-  // Tile `tile`'s pixels in [x0, x1] x [y0, y1] (inclusive), clipped to the target.
-  void tile_rect(const Framebuffer& fb, int tile, int& x0, int& y0, int& x1, int& y1) const {
-    const int tx = tile % tiles_x, ty = tile / tiles_x;
-    x0 = tx * this->tile;
-    y0 = ty * this->tile;
-    x1 = std::min(x0 + this->tile, fb.width) - 1;
-    y1 = std::min(y0 + this->tile, fb.height) - 1;
-  }
 
   // Clears one tile's rows of every plane the target has (a depth-only target has no colour).
   void clear_tile(Framebuffer& fb, const ClearValues& c, int tile) const {
     int x0, y0, x1, y1;
-    tile_rect(fb, tile, x0, y0, x1, y1);
+    tile_rect(grid(), fb, tile, x0, y0, x1, y1);
     const size_t n = static_cast<size_t>(x1 - x0 + 1);
     for (int y = y0; y <= y1; ++y) {
       const size_t row = static_cast<size_t>(y) * fb.width + x0;
@@ -548,28 +337,13 @@ struct Rasterizer::Impl {
     }
   }
 
-  // One tile: its triangles in submission order. Compiled for the baseline and for AVX2.
-  [[gnu::always_inline]] inline void raster_tile_body(Worker& w, Framebuffer& fb,
-                                                      std::span<const DrawCall> draws, int tile) {
-    int x0, y0, x1, y1;
-    tile_rect(fb, tile, x0, y0, x1, y1);
-    for (uint32_t ti : bins[tile]) {
-      const SetupTriangle& t = tris[ti];
-      raster_triangle(w, fb, draws[t.draw], t, x0, y0, x1, y1);
-    }
-  }
-  RELIEF_BASE_ENTRY void raster_tile_base(Worker& w, Framebuffer& fb,
-                                          std::span<const DrawCall> draws, int tile) {
-    raster_tile_body(w, fb, draws, tile);
-  }
-  RELIEF_AVX2_ENTRY void raster_tile_avx2(Worker& w, Framebuffer& fb,
-                                          std::span<const DrawCall> draws, int tile) {
-    raster_tile_body(w, fb, draws, tile);
-  }
 };
 
 Rasterizer::Rasterizer(ThreadPool& pool, RasterConfig config)
     : pool_(pool), config_(config), impl_(std::make_unique<Impl>()) {
+  // Links base/simd.cpp, whose start-up code applies RELIEF_SIMD, into every program that draws:
+  // the draws dispatch on the level it sets.
+  (void)simd_level();
   CHECK(config_.tile_size >= 8 && config_.tile_size <= 512 && config_.tile_size % 2 == 0);
 }
 
@@ -599,19 +373,16 @@ RasterStats Rasterizer::draw(Framebuffer& fb, std::span<const DrawCall> draws,
   const auto t1 = Clock::now();
 
   while (static_cast<int>(im.workers.size()) < pool_.size())
-    im.workers.push_back(std::make_unique<Impl::Worker>());
+    im.workers.push_back(std::make_unique<Worker>());
   for (auto& w : im.workers) {
     w->counters = WorkCounters{};
     w->quads = 0;
   }
-  const bool avx2 = simd_avx2();
+  const TileGrid grid = im.grid();
   pool_.run(im.tiles_x * im.tiles_y, [&](int tile, int worker) {
-    Impl::Worker& w = *im.workers[worker];
+    Worker& w = *im.workers[worker];
     if (clear) im.clear_tile(fb, *clear, tile);
-    if (avx2)
-      im.raster_tile_avx2(w, fb, draws, tile);
-    else
-      im.raster_tile_base(w, fb, draws, tile);
+    raster_tile(grid, w, fb, draws, tile);
   });
   for (auto& w : im.workers) {
     im.stats.work += w->counters;

@@ -5,7 +5,7 @@ set -euo pipefail
 
 packages=(
   g++ cmake make pkg-config
-  libglm-dev
+  libglm-dev libhwy-dev  # libhwy-dev: SIMD targets and dispatch (base/simd.h)
   libopenimageio-dev openimageio-tools
   libtinygltf-dev nlohmann-json3-dev
   libmeshoptimizer-dev libdraco-dev  # compressed glTF (scene/gltf_decode.cpp)

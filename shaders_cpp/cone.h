@@ -25,7 +25,13 @@
 // QuadTextureCone reads the four quad-directional ratios (+u, -u, +v, -v) and returns, for a ray
 // whose uv direction has signs (su, sv), max(r[su], r[sv]): the ray stays in both closed
 // half-planes, so either ratio is safe and the wider one is used.
-#pragma once
+
+#if defined(RELIEF_SHADERS_CPP_CONE_H_) == defined(HWY_TARGET_TOGGLE)
+#ifdef RELIEF_SHADERS_CPP_CONE_H_
+#undef RELIEF_SHADERS_CPP_CONE_H_
+#else
+#define RELIEF_SHADERS_CPP_CONE_H_
+#endif
 
 #include <cmath>
 
@@ -37,14 +43,18 @@
 #include "shaders_cpp/search.h"
 #include "shaders_cpp/vec.h"
 
+#include <hwy/highway.h>
+
+HWY_BEFORE_NAMESPACE();
 namespace relief {
+namespace HWY_NAMESPACE {
 
 // The nearest-texel depth field the relaxed cones are defined on: a TextureDepth whose sampler
 // is `sampler` with nearest filtering (kept here, so the reader can be copied freely).
 struct NearestTextureDepth {
   const Texture* texture = nullptr;
   SamplerState sampler;
-  float lod[8] = {};
+  float lod[kLanes] = {};
   mutable RLodPlan plan;  // as TextureDepth's
   float operator()(int lane, float u, float v) const {
     return sample_r_lod(*texture, sampler, glm::vec2(u, v), lod[lane]);
@@ -67,7 +77,7 @@ inline SamplerState cone_sampler(const SamplerState& material) {
 struct TextureCone {
   const Texture* texture = nullptr;
   SamplerState sampler;  // cone_sampler(...)
-  float lod[8] = {};
+  float lod[kLanes] = {};
   mutable RLodPlan plan;  // as TextureDepth's
   float operator()(int lane, float u, float v) const {
     return sample_lod(*texture, sampler, glm::vec2(u, v), lod[lane]).x;
@@ -83,8 +93,8 @@ struct TextureCone {
 struct QuadTextureCone {
   const Texture* texture = nullptr;
   SamplerState sampler;
-  float lod[8] = {};
-  int cu[8] = {}, cv[8] = {};
+  float lod[kLanes] = {};
+  int cu[kLanes] = {}, cv[kLanes] = {};
   // Picks each lane's pair of channels from the signs of its uv direction.
   template <class F>
   void aim(V2<F> ds) {
@@ -324,4 +334,8 @@ inline ConeShadow<F> light_ray_shadow(V2<F> uv, F t, V2<F> dl, F lz, float bias,
   return r;
 }
 
+}  // namespace HWY_NAMESPACE
 }  // namespace relief
+HWY_AFTER_NAMESPACE();
+
+#endif  // RELIEF_SHADERS_CPP_CONE_H_

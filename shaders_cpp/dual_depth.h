@@ -4,12 +4,22 @@
 // ends). A point at depth t is inside the object when front <= t <= back; texels the object does
 // not cover read front = 1, back = 0 (never inside). Written once over the lane type F (float or
 // F8), with the conventions of shaders_cpp/search.h (a ray at depth t is at uv + ds * t).
-#pragma once
+
+#if defined(RELIEF_SHADERS_CPP_DUAL_DEPTH_H_) == defined(HWY_TARGET_TOGGLE)
+#ifdef RELIEF_SHADERS_CPP_DUAL_DEPTH_H_
+#undef RELIEF_SHADERS_CPP_DUAL_DEPTH_H_
+#else
+#define RELIEF_SHADERS_CPP_DUAL_DEPTH_H_
+#endif
 
 #include "shaders_cpp/search.h"
 #include "shaders_cpp/shadow.h"
 
+#include <hwy/highway.h>
+
+HWY_BEFORE_NAMESPACE();
 namespace relief {
+namespace HWY_NAMESPACE {
 
 // Texture fetches one read of a depth source costs: 1, or the source's own kFetches (0 for a
 // constant layer such as relief_dual's back layer when no map is bound).
@@ -91,4 +101,8 @@ inline ShadowResult<F> dual_depth_shadow(const Front& front, const Back& back, V
   return {vis, steps, fetches};
 }
 
+}  // namespace HWY_NAMESPACE
 }  // namespace relief
+HWY_AFTER_NAMESPACE();
+
+#endif  // RELIEF_SHADERS_CPP_DUAL_DEPTH_H_

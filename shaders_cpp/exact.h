@@ -16,14 +16,11 @@
 // with D(u + t dsx, v + t dsy) <= t. Arithmetic is double throughout, so the reference is far more
 // accurate than any float kernel it is compared with, even at grazing angles where the ray
 // crosses the texture many times.
-#pragma once
 
+#ifndef RELIEF_SHADERS_CPP_EXACT_H_ONCE
+#define RELIEF_SHADERS_CPP_EXACT_H_ONCE
 #include <vector>
-
 #include "rasterizer/texture.h"
-#include "shaders_cpp/lanes.h"
-#include "shaders_cpp/search.h"
-#include "shaders_cpp/vec.h"
 
 namespace relief {
 
@@ -106,6 +103,28 @@ class HeightField {
   std::vector<int> nx_, ny_;
 };
 
+}  // namespace relief
+#endif  // RELIEF_SHADERS_CPP_EXACT_H_ONCE
+
+#if defined(RELIEF_SHADERS_CPP_EXACT_H_) == defined(HWY_TARGET_TOGGLE)
+#ifdef RELIEF_SHADERS_CPP_EXACT_H_
+#undef RELIEF_SHADERS_CPP_EXACT_H_
+#else
+#define RELIEF_SHADERS_CPP_EXACT_H_
+#endif
+
+#include <vector>
+
+#include "rasterizer/texture.h"
+#include "shaders_cpp/lanes.h"
+#include "shaders_cpp/search.h"
+#include "shaders_cpp/vec.h"
+
+#include <hwy/highway.h>
+
+HWY_BEFORE_NAMESPACE();
+namespace relief {
+namespace HWY_NAMESPACE {
 // Per-lane bridge for plugins and tests: the exact hit of each active lane's ray, rounded to
 // float. steps = nodes visited, fetches = nodes visited + 4 per patch solved (the reads the
 // reference makes; it samples no texture). Inactive lanes return their start uv at depth 0.
@@ -146,4 +165,8 @@ inline F exact_shadow(const HeightField& field, V2<F> uv, F t, V2<F> dl, F lz, f
   return vis;
 }
 
+}  // namespace HWY_NAMESPACE
 }  // namespace relief
+HWY_AFTER_NAMESPACE();
+
+#endif  // RELIEF_SHADERS_CPP_EXACT_H_

@@ -4,11 +4,21 @@
 // relief searches turn a tangent-space ray into a uv step with it); glTF files store the opposite
 // sign (their bitangent points to the image top, -v: scene/gltf.cpp negates it), and normal maps
 // are glTF-convention, green along -B (plugins/surface.h normal_from_texel).
-#pragma once
+
+#if defined(RELIEF_SHADERS_CPP_FRAME_H_) == defined(HWY_TARGET_TOGGLE)
+#ifdef RELIEF_SHADERS_CPP_FRAME_H_
+#undef RELIEF_SHADERS_CPP_FRAME_H_
+#else
+#define RELIEF_SHADERS_CPP_FRAME_H_
+#endif
 
 #include "shaders_cpp/vec.h"
 
+#include <hwy/highway.h>
+
+HWY_BEFORE_NAMESPACE();
 namespace relief {
+namespace HWY_NAMESPACE {
 
 template <class F> struct TangentFrame {
   V3<F> t, b, n;  // orthonormal; t along +u, b along +v, n out of the surface
@@ -42,4 +52,8 @@ inline TangentFrame<F> make_tangent_frame(V3<F> normal, V3<F> tangent, F sign) {
   return f;
 }
 
+}  // namespace HWY_NAMESPACE
 }  // namespace relief
+HWY_AFTER_NAMESPACE();
+
+#endif  // RELIEF_SHADERS_CPP_FRAME_H_

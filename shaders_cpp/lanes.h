@@ -1,104 +1,173 @@
 // Lane types for kernels written once (DESIGN.md, "The fragment-shader plugin ABI").
 //
 // A kernel is a template over F, the float lane type: `float` (one fragment, for clarity and tests)
-// or `F8` (eight fragments in one SIMD batch, GCC vector extensions, AVX when the build enables
-// it). mask_t<F> is the matching predicate type (bool or M8). Every operation here is a plain IEEE
-// operation done lane by lane in the same order for both types, and the build disables FP
-// contraction, so the two instantiations agree bit for bit (tested in tests/shaders_cpp).
-#pragma once
+// or FV<N> (N fragments in one SIMD batch: GCC vector extensions compiled for the SIMD target of
+// the enclosing namespace). mask_t<F> is the matching predicate type (bool or MV<N>). Every
+// operation here is a plain IEEE operation done lane by lane in the same order for every type, and
+// the build disables FP contraction, so all instantiations agree bit for bit (tested in
+// tests/shaders_cpp and, per SIMD target, tests/rasterizer/simd_test.cpp).
+//
+// Per-target header (base/simd.h): it has no include guard of its own but Highway's toggle, so
+// that a translation unit built with hwy/foreach_target.h compiles it once per target, inside
+// relief::HWY_NAMESPACE. FN, MN and IN are the target's native width, kLanes lanes: 16 on
+// AVX-512 (Highway's AVX3 target), 8 elsewhere (AVX2; the baseline EMU128 target runs them as two
+// SSE2 halves). F8, I8 and M8 name the 8-lane types on every target. Code outside a foreach_target
+// pass (tests, tools) sees the static target's types as relief::F8 and friends through the
+// using-directive at the end.
+#if defined(RELIEF_SHADERS_LANES_H_) == defined(HWY_TARGET_TOGGLE)
+#ifdef RELIEF_SHADERS_LANES_H_
+#undef RELIEF_SHADERS_LANES_H_
+#else
+#define RELIEF_SHADERS_LANES_H_
+#endif
 
 #include <cmath>
 #include <cstdint>
 #include <cstring>
+#include <type_traits>
 
-#include "rasterizer/simd.h"  // v8f, v8i
+#include <hwy/highway.h>
 
+HWY_BEFORE_NAMESPACE();
 namespace relief {
+namespace HWY_NAMESPACE {
+
+// The target's native lane count.
+#if HWY_ARCH_X86 && (HWY_TARGET == HWY_AVX3 || HWY_TARGET == HWY_AVX3_DL)
+inline constexpr int kLanes = 16;
+#else
+inline constexpr int kLanes = 8;
+#endif
+
+// GCC vector types of N lanes (N = 8 or 16).
+template <int N> struct VecOf;
+template <> struct VecOf<8> {
+  typedef float f __attribute__((vector_size(32)));
+  typedef int32_t i __attribute__((vector_size(32)));
+};
+template <> struct VecOf<16> {
+  typedef float f __attribute__((vector_size(64)));
+  typedef int32_t i __attribute__((vector_size(64)));
+};
+template <int N> using vf_t = typename VecOf<N>::f;
+template <int N> using vi_t = typename VecOf<N>::i;
 
 namespace detail {
-// A scalar copied to all eight lanes: lane 0 set, then a shuffle of lane 0 everywhere. GCC 12
-// builds `v8i{s, s, s, s, s, s, s, s}` of a run-time s inside a target("avx2") clone as vmovd,
-// three vpinsrd and a vinserti128 (vinsertps chains for floats); this form is one vpbroadcastd
-// (vbroadcastss) there and pshufd in baseline code, and a constant s still folds to a constant.
-// Always inline: a broadcast left out of line is a call per use (session 8 found I8(int) as a
-// .constprop clone called from the sampler clones).
-// (Clang: __builtin_shufflevector, the same operation.) V is v8i or v8f, S its lane type.
+// A scalar copied to every lane: lane 0 set, then a shuffle of lane 0 everywhere. GCC 12 builds
+// `vi{s, s, ...}` of a run-time s as a chain of inserts; this form is one vpbroadcastd
+// (vbroadcastss) on AVX2 and AVX-512 and pshufd in baseline code, and a constant s still folds to
+// a constant. Always inline: a broadcast left out of line is a call per use.
+// (Clang: __builtin_shufflevector, the same operation.) V is a vf_t or vi_t, S its lane type.
 template <class V, class S>
-__attribute__((always_inline)) inline V broadcast8(S s) {
+__attribute__((always_inline)) inline V broadcast(S s) {
   V t{};
   t[0] = s;
+  constexpr int n = sizeof(V) / 4;
 #if defined(__clang__)
-  return __builtin_shufflevector(t, t, 0, 0, 0, 0, 0, 0, 0, 0);
+  if constexpr (n == 8)
+    return __builtin_shufflevector(t, t, 0, 0, 0, 0, 0, 0, 0, 0);
+  else
+    return __builtin_shufflevector(t, t, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0);
 #else
-  return __builtin_shuffle(t, v8i{});
+  return __builtin_shuffle(t, vi_t<n>{});
 #endif
 }
 }  // namespace detail
 
-struct M8 {
-  v8i v;
-  friend M8 operator&(M8 a, M8 b) { return {a.v & b.v}; }
-  friend M8 operator|(M8 a, M8 b) { return {a.v | b.v}; }
-  friend M8 operator^(M8 a, M8 b) { return {a.v ^ b.v}; }
-  friend M8 operator!(M8 a) { return {~a.v}; }
-  M8& operator&=(M8 b) { v &= b.v; return *this; }
-  M8& operator|=(M8 b) { v |= b.v; return *this; }
+// The operators are namespace-scope templates, never friends defined in the class: GCC compiles a
+// friend defined inside a class without the target options of the region around it (and an
+// implicitly defined constructor likewise), which would make it baseline code with the baseline
+// calling convention, called from this target's code (tests/tools/check-per-target.sh fails the
+// build on such a friend in any per-target file).
+template <int N>
+struct MV {
+  vi_t<N> v;
+  MV& operator&=(MV b) { v &= b.v; return *this; }
+  MV& operator|=(MV b) { v |= b.v; return *this; }
   bool operator[](int i) const { return v[i] != 0; }
 };
+template <int N> inline MV<N> operator&(MV<N> a, MV<N> b) { return {a.v & b.v}; }
+template <int N> inline MV<N> operator|(MV<N> a, MV<N> b) { return {a.v | b.v}; }
+template <int N> inline MV<N> operator^(MV<N> a, MV<N> b) { return {a.v ^ b.v}; }
+template <int N> inline MV<N> operator!(MV<N> a) { return {~a.v}; }
 
-// Eight int32 lanes: the integer companion of F8 (texel addresses, exponent bits).
-struct I8 {
-  v8i v;
-  I8() : v{} {}
+// N int32 lanes: the integer companion of FV (texel addresses, exponent bits).
+template <int N>
+struct IV {
+  vi_t<N> v;
+  IV() : v{} {}
   // NOLINTNEXTLINE: implicit broadcast
-  __attribute__((always_inline)) I8(int32_t s) : v(detail::broadcast8<v8i>(s)) {}
-  explicit I8(v8i x) : v(x) {}
+  __attribute__((always_inline)) IV(int32_t s) : v(detail::broadcast<vi_t<N>>(s)) {}
+  explicit IV(vi_t<N> x) : v(x) {}
   int32_t operator[](int i) const { return v[i]; }
-  friend I8 operator+(I8 a, I8 b) { return I8(a.v + b.v); }
-  friend I8 operator-(I8 a, I8 b) { return I8(a.v - b.v); }
-  friend I8 operator*(I8 a, I8 b) { return I8(a.v * b.v); }
-  friend I8 operator&(I8 a, I8 b) { return I8(a.v & b.v); }
-  friend I8 operator|(I8 a, I8 b) { return I8(a.v | b.v); }
-  friend I8 operator<<(I8 a, int n) { return I8(a.v << n); }
-  friend I8 operator>>(I8 a, int n) { return I8(a.v >> n); }
-  friend I8 operator>>(I8 a, I8 n) { return I8(a.v >> n.v); }
-  friend M8 operator<(I8 a, I8 b) { return {a.v < b.v}; }
-  friend M8 operator>(I8 a, I8 b) { return {a.v > b.v}; }
-  friend M8 operator>=(I8 a, I8 b) { return {a.v >= b.v}; }
-  friend M8 operator==(I8 a, I8 b) { return {a.v == b.v}; }
 };
 
-struct F8 {
-  v8f v;
-  F8() : v{} {}
+template <int N>
+struct FV {
+  vf_t<N> v;
+  FV() : v{} {}
   // NOLINTNEXTLINE: implicit broadcast, like GLSL
-  __attribute__((always_inline)) F8(float s) : v(detail::broadcast8<v8f>(s)) {}
-  explicit F8(v8f x) : v(x) {}
-  static F8 load(const float* p) {
-    F8 r;
-    std::memcpy(&r.v, p, sizeof(v8f));
+  __attribute__((always_inline)) FV(float s) : v(detail::broadcast<vf_t<N>>(s)) {}
+  explicit FV(vf_t<N> x) : v(x) {}
+  static FV load(const float* p) {
+    FV r;
+    std::memcpy(&r.v, p, sizeof(r.v));
     return r;
   }
-  void store(float* p) const { std::memcpy(p, &v, sizeof(v8f)); }
+  void store(float* p) const { std::memcpy(p, &v, sizeof(v)); }
   float operator[](int i) const { return v[i]; }
   void set(int i, float x) { v[i] = x; }
-
-  friend F8 operator+(F8 a, F8 b) { return F8(a.v + b.v); }
-  friend F8 operator-(F8 a, F8 b) { return F8(a.v - b.v); }
-  friend F8 operator*(F8 a, F8 b) { return F8(a.v * b.v); }
-  friend F8 operator/(F8 a, F8 b) { return F8(a.v / b.v); }
-  friend F8 operator-(F8 a) { return F8(-a.v); }
-  F8& operator+=(F8 b) { v += b.v; return *this; }
-  F8& operator-=(F8 b) { v -= b.v; return *this; }
-  F8& operator*=(F8 b) { v *= b.v; return *this; }
-  F8& operator/=(F8 b) { v /= b.v; return *this; }
-  friend M8 operator<(F8 a, F8 b) { return {a.v < b.v}; }
-  friend M8 operator<=(F8 a, F8 b) { return {a.v <= b.v}; }
-  friend M8 operator>(F8 a, F8 b) { return {a.v > b.v}; }
-  friend M8 operator>=(F8 a, F8 b) { return {a.v >= b.v}; }
-  friend M8 operator==(F8 a, F8 b) { return {a.v == b.v}; }
-  friend M8 operator!=(F8 a, F8 b) { return {a.v != b.v}; }
+  FV& operator+=(FV b) { v += b.v; return *this; }
+  FV& operator-=(FV b) { v -= b.v; return *this; }
+  FV& operator*=(FV b) { v *= b.v; return *this; }
+  FV& operator/=(FV b) { v /= b.v; return *this; }
 };
+
+// Binary operators of lanes T<N> with scalar S (broadcast, like GLSL) on either side.
+#define RELIEF_LANE_BINARY(T, S, R, OP)                                                     \
+  template <int N> inline R operator OP(T<N> a, T<N> b) { return R{a.v OP b.v}; }          \
+  template <int N> inline R operator OP(T<N> a, S b) { return R{a.v OP T<N>(b).v}; }       \
+  template <int N> inline R operator OP(S a, T<N> b) { return R{T<N>(a).v OP b.v}; }
+RELIEF_LANE_BINARY(FV, float, FV<N>, +)
+RELIEF_LANE_BINARY(FV, float, FV<N>, -)
+RELIEF_LANE_BINARY(FV, float, FV<N>, *)
+RELIEF_LANE_BINARY(FV, float, FV<N>, /)
+RELIEF_LANE_BINARY(FV, float, MV<N>, <)
+RELIEF_LANE_BINARY(FV, float, MV<N>, <=)
+RELIEF_LANE_BINARY(FV, float, MV<N>, >)
+RELIEF_LANE_BINARY(FV, float, MV<N>, >=)
+RELIEF_LANE_BINARY(FV, float, MV<N>, ==)
+RELIEF_LANE_BINARY(FV, float, MV<N>, !=)
+RELIEF_LANE_BINARY(IV, int32_t, IV<N>, +)
+RELIEF_LANE_BINARY(IV, int32_t, IV<N>, -)
+RELIEF_LANE_BINARY(IV, int32_t, IV<N>, *)
+RELIEF_LANE_BINARY(IV, int32_t, IV<N>, &)
+RELIEF_LANE_BINARY(IV, int32_t, IV<N>, |)
+RELIEF_LANE_BINARY(IV, int32_t, MV<N>, <)
+RELIEF_LANE_BINARY(IV, int32_t, MV<N>, >)
+RELIEF_LANE_BINARY(IV, int32_t, MV<N>, >=)
+RELIEF_LANE_BINARY(IV, int32_t, MV<N>, ==)
+#undef RELIEF_LANE_BINARY
+template <int N> inline FV<N> operator-(FV<N> a) { return FV<N>(-a.v); }
+template <int N> inline IV<N> operator<<(IV<N> a, int n) { return IV<N>(a.v << n); }
+template <int N> inline IV<N> operator>>(IV<N> a, int n) { return IV<N>(a.v >> n); }
+template <int N> inline IV<N> operator>>(IV<N> a, IV<N> n) { return IV<N>(a.v >> n.v); }
+
+// Lay the lane types out here, inside this target's region. GCC instantiates function templates at
+// the end of the translation unit, after the region has closed; a class template it first meets
+// there is laid out for the baseline target, and a function returning it then disagrees with its
+// callers about where the value is (GCC 12: a vzeroupper before `ret` wiped the upper lanes of a
+// returned mask; tests/rasterizer/simd_test.cpp caught it on relief_dual). A class that holds one
+// lane value and nothing else must be instantiated here the same way.
+static_assert(sizeof(FV<8>) == 32 && sizeof(IV<8>) == 32 && sizeof(MV<8>) == 32);
+static_assert(sizeof(FV<16>) == 64 && sizeof(IV<16>) == 64 && sizeof(MV<16>) == 64);
+
+using F8 = FV<8>;
+using I8 = IV<8>;
+using M8 = MV<8>;
+using FN = FV<kLanes>;  // the target's native width
+using IN = IV<kLanes>;
+using MN = MV<kLanes>;
 
 template <class F> struct LaneTraits;
 template <> struct LaneTraits<float> {
@@ -106,14 +175,16 @@ template <> struct LaneTraits<float> {
   using Int = int32_t;
   static constexpr int kWidth = 1;
 };
-template <> struct LaneTraits<F8> {
-  using Mask = M8;
-  using Int = I8;
-  static constexpr int kWidth = 8;
+template <int N> struct LaneTraits<FV<N>> {
+  using Mask = MV<N>;
+  using Int = IV<N>;
+  static constexpr int kWidth = N;
 };
 template <class F> using mask_t = typename LaneTraits<F>::Mask;
 template <class F> using int_t = typename LaneTraits<F>::Int;
 template <class F> inline constexpr int lane_width = LaneTraits<F>::kWidth;
+// Whether F is a SIMD lane type (not float).
+template <class F> inline constexpr bool is_lanes_v = lane_width<F> > 1;
 
 // ---- scalar ----
 inline float select(bool m, float a, float b) { return m ? a : b; }
@@ -150,68 +221,76 @@ inline int32_t lane(int32_t x, int) { return x; }
 inline void set_lane(int32_t& x, int, int32_t v) { x = v; }
 inline int32_t trunc_to_int(float x) { return static_cast<int32_t>(x); }  // |x| < 2^31
 
-// ---- 8 lanes ----
-inline F8 select(M8 m, F8 a, F8 b) { return F8(m.v ? a.v : b.v); }
-// A lane is true when its word is not zero. any/all OR the mask's four 64-bit words together:
+// ---- N lanes ----
+template <int N> inline FV<N> select(MV<N> m, FV<N> a, FV<N> b) { return FV<N>(m.v ? a.v : b.v); }
+// A lane is true when its word is not zero. any/all OR the mask's 64-bit words together:
 // branch-free, where a lane-by-lane loop costs a branch a lane (a search loop asks every step).
-inline bool any(M8 m) {
-  uint64_t w[4];
+template <int N> inline bool any(MV<N> m) {
+  uint64_t w[N / 2];
   std::memcpy(w, &m.v, sizeof w);
-  return (w[0] | w[1] | w[2] | w[3]) != 0;
+  uint64_t r = 0;
+  for (int i = 0; i < N / 2; ++i) r |= w[i];
+  return r != 0;
 }
-inline bool all(M8 m) { return !any(M8{m.v == 0}); }
-inline bool none(M8 m) { return !any(m); }
-inline float lane(F8 x, int i) { return x.v[i]; }
-inline bool lane(M8 m, int i) { return m.v[i] != 0; }
-inline void set_lane(F8& x, int i, float v) { x.v[i] = v; }
-inline void set_lane(M8& m, int i, bool v) { m.v[i] = v ? -1 : 0; }
-inline F8 vmin(F8 a, F8 b) { return F8(b.v < a.v ? b.v : a.v); }
-inline F8 vmax(F8 a, F8 b) { return F8(a.v < b.v ? b.v : a.v); }
-inline F8 vabs(F8 a) {
-  v8i bits;
+template <int N> inline bool all(MV<N> m) { return !any(MV<N>{m.v == 0}); }
+template <int N> inline bool none(MV<N> m) { return !any(m); }
+template <int N> inline float lane(FV<N> x, int i) { return x.v[i]; }
+template <int N> inline bool lane(MV<N> m, int i) { return m.v[i] != 0; }
+template <int N> inline void set_lane(FV<N>& x, int i, float v) { x.v[i] = v; }
+template <int N> inline void set_lane(MV<N>& m, int i, bool v) { m.v[i] = v ? -1 : 0; }
+template <int N> inline FV<N> vmin(FV<N> a, FV<N> b) { return FV<N>(b.v < a.v ? b.v : a.v); }
+template <int N> inline FV<N> vmax(FV<N> a, FV<N> b) { return FV<N>(a.v < b.v ? b.v : a.v); }
+template <int N> inline FV<N> vabs(FV<N> a) {
+  vi_t<N> bits;
   std::memcpy(&bits, &a.v, sizeof bits);
   bits &= 0x7fffffff;
-  F8 r;
+  FV<N> r;
   std::memcpy(&r.v, &bits, sizeof bits);
   return r;
 }
-inline F8 vsqrt(F8 a) {
-  F8 r;
-  for (int i = 0; i < 8; ++i) r.v[i] = std::sqrt(a.v[i]);
+template <int N> inline FV<N> vsqrt(FV<N> a) {
+  FV<N> r;
+  for (int i = 0; i < N; ++i) r.v[i] = std::sqrt(a.v[i]);
   return r;
 }
 // std::floor over the lanes, bit for bit (-0 stays -0, NaN and |a| >= 2^23 pass through), without
 // SSE4.1's round instruction, which the baseline target lacks: truncate to int, step down where
 // that rounded a negative value up, and put the sign back (floor(-0.5) = -1, floor(-0.0) = -0).
-inline F8 vfloor(F8 a) {
-  const v8i bits = reinterpret_cast<v8i>(a.v);
-  const v8f mag = reinterpret_cast<v8f>(bits & 0x7fffffff);
-  const v8i small = mag < 8388608.0f;  // false for NaN
-  const v8f x = small ? a.v : v8f{};
-  const v8f t = __builtin_convertvector(__builtin_convertvector(x, v8i), v8f);
-  const v8f f = t > x ? t - 1.0f : t;
-  const v8i signed_f = reinterpret_cast<v8i>(f) | (bits & int32_t(0x80000000u));
-  return F8(reinterpret_cast<v8f>(small ? signed_f : bits));
+template <int N> inline FV<N> vfloor(FV<N> a) {
+  using vi = vi_t<N>;
+  using vf = vf_t<N>;
+  const vi bits = reinterpret_cast<vi>(a.v);
+  const vf mag = reinterpret_cast<vf>(bits & 0x7fffffff);
+  const vi small = mag < 8388608.0f;  // false for NaN
+  const vf x = small ? a.v : vf{};
+  const vf t = __builtin_convertvector(__builtin_convertvector(x, vi), vf);
+  const vf f = t > x ? t - 1.0f : t;
+  const vi signed_f = reinterpret_cast<vi>(f) | (bits & int32_t(0x80000000u));
+  return FV<N>(reinterpret_cast<vf>(small ? signed_f : bits));
 }
-inline F8 load_lanes(const float* p, F8) { return F8::load(p); }
-inline void store_lanes(float* p, F8 x) { x.store(p); }
-inline I8 select(M8 m, I8 a, I8 b) { return I8(m.v ? a.v : b.v); }
-inline I8 vmin(I8 a, I8 b) { return I8(b.v < a.v ? b.v : a.v); }
-inline I8 vmax(I8 a, I8 b) { return I8(a.v < b.v ? b.v : a.v); }
-inline I8 bits_of(F8 x) {
-  I8 b;
+template <int N> inline FV<N> load_lanes(const float* p, FV<N>) { return FV<N>::load(p); }
+template <int N> inline void store_lanes(float* p, FV<N> x) { x.store(p); }
+template <int N> inline IV<N> select(MV<N> m, IV<N> a, IV<N> b) { return IV<N>(m.v ? a.v : b.v); }
+template <int N> inline IV<N> vmin(IV<N> a, IV<N> b) { return IV<N>(b.v < a.v ? b.v : a.v); }
+template <int N> inline IV<N> vmax(IV<N> a, IV<N> b) { return IV<N>(a.v < b.v ? b.v : a.v); }
+template <int N> inline IV<N> bits_of(FV<N> x) {
+  IV<N> b;
   std::memcpy(&b.v, &x.v, sizeof b.v);
   return b;
 }
-inline F8 float_of_bits(I8 b) {
-  F8 x;
+template <int N> inline FV<N> float_of_bits(IV<N> b) {
+  FV<N> x;
   std::memcpy(&x.v, &b.v, sizeof x.v);
   return x;
 }
-inline int32_t lane(I8 x, int i) { return x.v[i]; }
-inline void set_lane(I8& x, int i, int32_t v) { x.v[i] = v; }
-inline F8 to_float(I8 i) { return F8(__builtin_convertvector(i.v, v8f)); }
-inline I8 trunc_to_int(F8 x) { return I8(__builtin_convertvector(x.v, v8i)); }
+template <int N> inline int32_t lane(IV<N> x, int i) { return x.v[i]; }
+template <int N> inline void set_lane(IV<N>& x, int i, int32_t v) { x.v[i] = v; }
+template <int N> inline FV<N> to_float(IV<N> i) {
+  return FV<N>(__builtin_convertvector(i.v, vf_t<N>));
+}
+template <int N> inline IV<N> trunc_to_int(FV<N> x) {
+  return IV<N>(__builtin_convertvector(x.v, vi_t<N>));
+}
 
 // ---- generic helpers ----
 template <class F> inline F clamp(F x, F lo, F hi) { return vmin(vmax(x, lo), hi); }
@@ -263,10 +342,22 @@ template <class F> inline F vpow_fast(F x, float e) {
 
 // Applies a scalar function lane by lane: the bridge to per-lane work such as texture fetches.
 template <class Fn> inline float per_lane(float, Fn&& fn) { return fn(0); }
-template <class Fn> inline F8 per_lane(F8, Fn&& fn) {
-  F8 r;
-  for (int i = 0; i < 8; ++i) r.v[i] = fn(i);
+template <int N, class Fn> inline FV<N> per_lane(FV<N>, Fn&& fn) {
+  FV<N> r;
+  for (int i = 0; i < N; ++i) r.v[i] = fn(i);
   return r;
 }
 
+}  // namespace HWY_NAMESPACE
 }  // namespace relief
+HWY_AFTER_NAMESPACE();
+
+#if HWY_ONCE
+// Code outside the per-target passes (tests, tools, scalar callers) names the static target's
+// lane types and kernels as relief::F8, relief::V3 and so on.
+namespace relief {
+using namespace relief::HWY_NAMESPACE;
+}
+#endif
+
+#endif  // RELIEF_SHADERS_LANES_H_

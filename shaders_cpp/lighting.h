@@ -4,14 +4,24 @@
 // Punctual lights follow glTF KHR_lights_punctual: directional lights have no falloff; point and
 // spot lights fall off as 1/d^2 with the range window clamp(1 - (d/range)^4, 0, 1)^2 when range > 0;
 // spot lights blend between the outer and inner cone cosines.
-#pragma once
+
+#if defined(RELIEF_SHADERS_CPP_LIGHTING_H_) == defined(HWY_TARGET_TOGGLE)
+#ifdef RELIEF_SHADERS_CPP_LIGHTING_H_
+#undef RELIEF_SHADERS_CPP_LIGHTING_H_
+#else
+#define RELIEF_SHADERS_CPP_LIGHTING_H_
+#endif
 
 #include <cmath>
 
 #include "plugins/plugin.h"
 #include "shaders_cpp/vec.h"
 
+#include <hwy/highway.h>
+
+HWY_BEFORE_NAMESPACE();
 namespace relief {
+namespace HWY_NAMESPACE {
 
 template <class F> struct LightSample {
   V3<F> l;         // unit direction from the point to the light
@@ -76,4 +86,8 @@ template <class F> struct NoShadow {
   F operator()(int, V3<F>, mask_t<F>) const { return F(1.0f); }
 };
 
+}  // namespace HWY_NAMESPACE
 }  // namespace relief
+HWY_AFTER_NAMESPACE();
+
+#endif  // RELIEF_SHADERS_CPP_LIGHTING_H_

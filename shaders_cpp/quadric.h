@@ -14,13 +14,23 @@
 // Vt = (V.x / sx, V.y / sy, -V.z / sz) (equation 9), -V.z clamped to at least kMinRayCos so every
 // quantity stays finite. A ray point is `inside` the relief when its distance D(t) below the
 // quadric is at least the depth map's value there.
-#pragma once
+
+#if defined(RELIEF_SHADERS_CPP_QUADRIC_H_) == defined(HWY_TARGET_TOGGLE)
+#ifdef RELIEF_SHADERS_CPP_QUADRIC_H_
+#undef RELIEF_SHADERS_CPP_QUADRIC_H_
+#else
+#define RELIEF_SHADERS_CPP_QUADRIC_H_
+#endif
 
 #include "shaders_cpp/cone.h"
 #include "shaders_cpp/ray.h"
 #include "shaders_cpp/search.h"
 
+#include <hwy/highway.h>
+
+HWY_BEFORE_NAMESPACE();
 namespace relief {
+namespace HWY_NAMESPACE {
 
 enum class QuadricDistance { kApproximate, kAccurate };
 
@@ -278,4 +288,8 @@ inline QuadricHit<F> quadric_relaxed_cone_search(const Depth& depth, const Cone&
   return out;
 }
 
+}  // namespace HWY_NAMESPACE
 }  // namespace relief
+HWY_AFTER_NAMESPACE();
+
+#endif  // RELIEF_SHADERS_CPP_QUADRIC_H_

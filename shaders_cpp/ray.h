@@ -8,7 +8,13 @@
 // and reaches depth t in [0, 1] at (u, v) + t * ds, ds = V.xy * depth_scale / (-V.z), where
 // depth_scale is the height of the relief in uv units. Depth is float reversed-Z in [0, 1]
 // (near = 1, far = 0).
-#pragma once
+
+#if defined(RELIEF_SHADERS_CPP_RAY_H_) == defined(HWY_TARGET_TOGGLE)
+#ifdef RELIEF_SHADERS_CPP_RAY_H_
+#undef RELIEF_SHADERS_CPP_RAY_H_
+#else
+#define RELIEF_SHADERS_CPP_RAY_H_
+#endif
 
 #include <glm/mat4x4.hpp>
 #include <glm/vec3.hpp>
@@ -17,7 +23,11 @@
 #include "shaders_cpp/lanes.h"
 #include "shaders_cpp/vec.h"
 
+#include <hwy/highway.h>
+
+HWY_BEFORE_NAMESPACE();
 namespace relief {
+namespace HWY_NAMESPACE {
 
 // The smallest -V.z (and light L.z) a texture-space step divides by: rays grazing closer than
 // about 0.006 degrees, or leaving the surface, step as if at that angle, so ds stays finite.
@@ -103,4 +113,8 @@ inline F reversed_z_depth(const glm::mat4& view_proj, V3<F> p, F fallback) {
   return select(ok, saturate(d), saturate(select(fallback == fallback, fallback, F(0.0f))));
 }
 
+}  // namespace HWY_NAMESPACE
 }  // namespace relief
+HWY_AFTER_NAMESPACE();
+
+#endif  // RELIEF_SHADERS_CPP_RAY_H_

@@ -3,14 +3,20 @@
 // 8-bit textures (R8, RG8, RGBA8) and R32F with nearest, bilinear, trilinear or (without
 // derivatives) anisotropic filtering and repeat or clamp wrapping take a path written once over
 // the lane type F: level choice, texel coordinates, weights and lerps run on all lanes at once.
-// Texel loads and sRGB table lookups are AVX2 gathers when the CPU runs the AVX2 path
-// (simd_avx2()) and lane by lane otherwise; both read the same bytes, so the results are the same
-// bits. It follows rasterizer/texture.cpp operation for operation (GL 4.5, section 8.14), so
+// Texel loads and sRGB table lookups are gathers (Highway's GatherOffset and GatherIndex) on the
+// SIMD targets that have them (AVX2, AVX-512) and lane by lane otherwise; both read the same
+// bytes, so the results are the same bits. It follows rasterizer/texture.cpp operation for operation (GL 4.5, section 8.14), so
 // textureLod equals sample_lod bit for bit; textureGrad takes its LOD from vlog2 (lanes.h), within
-// 1e-7 of std::log2. Other textures and filters call the scalar sampler per lane. float and F8
-// agree bit for bit either way. Kernels call the F8 sampler through the out-of-line entries of
-// shaders_cpp/sampling_simd.h.
-#pragma once
+// 1e-7 of std::log2. Other textures and filters call the scalar sampler per lane. float and the
+// lane types agree bit for bit either way. Kernels call the native-width sampler through the
+// out-of-line entries of shaders_cpp/sampling_simd.h. Per-target header (lanes.h says how).
+
+#if defined(RELIEF_SHADERS_CPP_SAMPLING_H_) == defined(HWY_TARGET_TOGGLE)
+#ifdef RELIEF_SHADERS_CPP_SAMPLING_H_
+#undef RELIEF_SHADERS_CPP_SAMPLING_H_
+#else
+#define RELIEF_SHADERS_CPP_SAMPLING_H_
+#endif
 
 #include <bit>
 #include <climits>
@@ -19,11 +25,11 @@
 #include "rasterizer/texture.h"
 #include "shaders_cpp/vec.h"
 
-#if RELIEF_HAVE_AVX2_PATH
-#include <immintrin.h>
-#endif
+#include <hwy/highway.h>
 
+HWY_BEFORE_NAMESPACE();
 namespace relief {
+namespace HWY_NAMESPACE {
 
 template <class F>
 struct V4 {
@@ -54,125 +60,112 @@ inline I wrap_lanes(I i, I size, Wrap w, bool pow2) {
   return r;
 }
 
-#if RELIEF_HAVE_AVX2_PATH
-// AVX2 forms of lanes.h's vfloor and clamp, for the AVX2 path only (simd_avx2()); vectors by
-// pointer, as for the gathers below. roundps rounds down exactly as std::floor does for every
-// value but NaN (quieted, where vfloor passes the bits), which texel_coord never gives it; max_ps
-// and min_ps with the bound first are vmax and vmin (lanes.h) including NaN: a < b ? b : a.
-[[gnu::target("avx2")]] inline void floor_avx2(const v8f* x, v8f* out) {
-  *out = reinterpret_cast<v8f>(_mm256_floor_ps(reinterpret_cast<__m256>(*x)));
+// The native-width reads below use Highway's ops on the targets that have gathers and a rounding
+// instruction (AVX2 and AVX-512); elsewhere (the baseline EMU128 target, 8-lane types on a
+// 16-lane target, float) they run lane by lane. Both read the same bytes and round the same way,
+// so the results are the same bits.
+#if HWY_ARCH_X86 && HWY_TARGET <= HWY_AVX2
+inline constexpr bool kHaveGather = true;
+#else
+inline constexpr bool kHaveGather = false;
+#endif
+template <class F>
+inline constexpr bool kHwyLanes = kHaveGather && std::is_same_v<F, FN>;
+
+#if HWY_ARCH_X86 && HWY_TARGET <= HWY_AVX2
+namespace hn = hwy::HWY_NAMESPACE;
+using DF = hn::ScalableTag<float>;  // kLanes floats: FN
+using DI = hn::RebindToSigned<DF>;
+using DU = hn::RebindToUnsigned<DF>;
+static_assert(hn::MaxLanes(DF()) == kLanes);
+// FN / IN to and from Highway vectors of the same bits (both are GCC vectors underneath).
+inline hn::Vec<DF> to_hwy(const FN& x) {
+  hn::Vec<DF> r;
+  r.raw = reinterpret_cast<decltype(r.raw)>(x.v);
+  return r;
 }
-[[gnu::target("avx2")]] inline void clamp_avx2(const v8f* x, float lo, float hi, v8f* out) {
-  const __m256 m = _mm256_max_ps(_mm256_set1_ps(lo), reinterpret_cast<__m256>(*x));
-  *out = reinterpret_cast<v8f>(_mm256_min_ps(_mm256_set1_ps(hi), m));
+inline hn::Vec<DI> to_hwy(const IN& x) {
+  hn::Vec<DI> r;
+  r.raw = reinterpret_cast<decltype(r.raw)>(x.v);
+  return r;
 }
+inline FN from_hwy(hn::Vec<DF> x) { return FN(reinterpret_cast<vf_t<kLanes>>(x.raw)); }
+inline IN from_hwy(hn::Vec<DI> x) { return IN(reinterpret_cast<vi_t<kLanes>>(x.raw)); }
 #endif
 
-// vfloor of a texel coordinate (finite, from texel_coord), one instruction on the AVX2 path.
+// vfloor of a texel coordinate (finite, from texel_coord): one rounding instruction on targets
+// that have it, which rounds down exactly as std::floor does for every value but NaN (quieted,
+// where vfloor passes the bits), which texel_coord never gives it.
 template <class F> [[gnu::always_inline]] inline F floor_coord(const F& x) {
-#if RELIEF_HAVE_AVX2_PATH
-  if constexpr (std::is_same_v<F, F8>) {
-    if (simd_avx2()) {
-      F8 r;
-      floor_avx2(&x.v, &r.v);
-      return r;
-    }
-  }
+#if HWY_ARCH_X86 && HWY_TARGET <= HWY_AVX2
+  if constexpr (kHwyLanes<F>) return from_hwy(hn::Floor(to_hwy(x)));
 #endif
   return vfloor(x);
 }
 
-// u * size - offset with NaN read as 0, kept in int range (texture.cpp's scaled_coord).
+// u * size - offset with NaN read as 0, kept in int range (texture.cpp's scaled_coord). Highway's
+// Max and Min with the bound first are x86's max_ps and min_ps, which are vmax and vmin (lanes.h)
+// including NaN: a < b ? b : a.
 template <class F>
 inline F texel_coord(F u, F size, F offset) {
   const F x = select(u == u, u, F(0.0f)) * size - offset;
-#if RELIEF_HAVE_AVX2_PATH
-  if constexpr (std::is_same_v<F, F8>) {
-    if (simd_avx2()) {
-      F8 r;
-      clamp_avx2(&x.v, -67108864.0f, 67108864.0f, &r.v);
-      return r;
-    }
+#if HWY_ARCH_X86 && HWY_TARGET <= HWY_AVX2
+  if constexpr (kHwyLanes<F>) {
+    const DF d;
+    return from_hwy(hn::Min(hn::Set(d, 67108864.0f), hn::Max(hn::Set(d, -67108864.0f), to_hwy(x))));
   }
 #endif
   return vmin(vmax(x, F(-67108864.0f)), F(67108864.0f));
 }
 
-// ---- AVX2 gathers ----
-// These functions are compiled for AVX2 whatever the caller: inlined into the AVX2 clones of
-// rasterizer/simd.h (shaders_cpp/sampling_simd.cpp's sampler entries). Baseline code reaches them
-// only behind simd_avx2(), which is false wherever the baseline path runs. Vectors cross by
-// pointer, so no vector argument changes its calling convention between the two targets.
-#if RELIEF_HAVE_AVX2_PATH
-// out[i] = lut[idx[i]] (idx in [0, 256)).
-[[gnu::target("avx2")]] inline void gather_table_avx2(const float* lut, const v8i* idx, v8f* out) {
-  *out = reinterpret_cast<v8f>(_mm256_i32gather_ps(lut, reinterpret_cast<__m256i>(*idx), 4));
-}
-// kSpan bytes (1 to 4) per lane from the level bytes d (`bytes` in all, at least 4) at the byte
-// offsets `off`, in the low kSpan bytes of each lane's word with zeros above, as a lane-by-lane
-// memcpy into a zeroed word makes it. Fewer than 4 bytes are read by a 4-byte load that ends
-// inside the level: at the offset, or at bytes - 4 and shifted down near the end. A 4-byte span
-// must lie inside the level. The broadcast is an intrinsic: clang refuses (as an error, at code
-// generation, which -fsyntax-only does not reach) a call from this AVX2 function to a baseline
-// function returning a vector, always_inline or not, so lanes.h's broadcast8 is not used here.
-template <int kSpan>
-[[gnu::target("avx2")]] inline void gather_bytes_avx2(const uint8_t* d, int32_t bytes,
-                                                       const v8i* off, v8i* out) {
-  const int* base = reinterpret_cast<const int*>(d);
-  if constexpr (kSpan == 4) {
-    *out = reinterpret_cast<v8i>(_mm256_i32gather_epi32(base, reinterpret_cast<__m256i>(*off), 1));
-  } else {
-    const v8i last = reinterpret_cast<v8i>(_mm256_set1_epi32(bytes - 4));
-    const v8i at = *off < last ? *off : last;
-    const v8i word =
-        reinterpret_cast<v8i>(_mm256_i32gather_epi32(base, reinterpret_cast<__m256i>(at), 1));
-    const v8i shifted = reinterpret_cast<v8i>(_mm256_srlv_epi32(
-        reinterpret_cast<__m256i>(word), reinterpret_cast<__m256i>((*off - at) * 8)));
-    *out = shifted & ((1 << (8 * kSpan)) - 1);
-  }
-}
+// lut[idx] (idx in [0, 256)): a gather where the target has one.
+template <class F>
+[[gnu::always_inline]] inline F table_lookup(const float* lut, const int_t<F>& idx) {
+#if HWY_ARCH_X86 && HWY_TARGET <= HWY_AVX2
+  if constexpr (kHwyLanes<F>) return from_hwy(hn::GatherIndex(DF(), lut, to_hwy(idx)));
 #endif
-
-// lut[idx] over eight lanes: a gather on the AVX2 path.
-[[gnu::always_inline]] inline F8 table_lookup8(const float* lut, I8 idx) {
-#if RELIEF_HAVE_AVX2_PATH
-  if (simd_avx2()) {
-    F8 r;
-    gather_table_avx2(lut, &idx.v, &r.v);
-    return r;
-  }
-#endif
-  F8 r;
-  for (int k = 0; k < 8; ++k) r.v[k] = lut[idx.v[k]];
+  F r;
+  for (int k = 0; k < lane_width<F>; ++k) set_lane(r, k, lut[lane(idx, k)]);
   return r;
 }
 
-// Whether bilinear_at gathers its texel words from `level`: the AVX2 path, 8 lanes, a level of at
-// least 4 bytes and small enough for 32-bit offsets; elsewhere it loads lane by lane.
+// Whether bilinear_at gathers its texel words from `level`: native lanes on a target with
+// gathers, a level of at least 4 bytes and small enough for 32-bit offsets; elsewhere it loads
+// lane by lane.
 template <class F>
 inline bool can_gather(const MipLevel& level) {
-#if RELIEF_HAVE_AVX2_PATH
   const size_t bytes = level.data.size();
-  return std::is_same_v<F, F8> && simd_avx2() && bytes >= 4 && bytes <= size_t(INT_MAX);
-#else
-  (void)level;
-  return false;
-#endif
+  return kHwyLanes<F> && bytes >= 4 && bytes <= size_t(INT_MAX);
 }
 
-// The texel words at `idx` of `level` by an AVX2 gather (can_gather said yes); with kTexels = 2,
-// texels idx and idx + 1 in one word (idx + 1 must lie in the level), the first in the low
-// kBytes bytes.
-template <int kBytes, int kTexels = 1>
-[[gnu::always_inline]] inline I8 gather_word(const MipLevel& level, const I8& idx) {
-  static_assert(kBytes * kTexels <= 4);
-  I8 out;
-#if RELIEF_HAVE_AVX2_PATH
-  const I8 off = idx * I8(kBytes);
-  gather_bytes_avx2<kBytes * kTexels>(level.data.data(), static_cast<int32_t>(level.data.size()),
-                                      &off.v, &out.v);
+// kBytes * kTexels bytes (1 to 4) per lane of `level` at texel indices idx (can_gather said
+// yes), in the low bytes of each lane's word with zeros above, as a lane-by-lane memcpy into a
+// zeroed word makes it; with kTexels = 2, texels idx and idx + 1 in one word (idx + 1 must lie in
+// the level), the first in the low kBytes bytes. Fewer than 4 bytes are read by a 4-byte load
+// that ends inside the level: at the offset, or at bytes - 4 and shifted down near the end. A
+// 4-byte span must lie inside the level.
+template <int kBytes, int kTexels = 1, class I>
+[[gnu::always_inline]] inline I gather_word(const MipLevel& level, const I& idx) {
+  constexpr int kSpan = kBytes * kTexels;
+  static_assert(kSpan <= 4);
+#if HWY_ARCH_X86 && HWY_TARGET <= HWY_AVX2
+  if constexpr (std::is_same_v<I, IN>) {
+    const DI di;
+    const int32_t* base = reinterpret_cast<const int32_t*>(level.data.data());
+    const IN off = idx * IN(kBytes);
+    if constexpr (kSpan == 4) {
+      return from_hwy(hn::GatherOffset(di, base, to_hwy(off)));
+    } else {
+      const IN at = vmin(off, IN(static_cast<int32_t>(level.data.size()) - 4));
+      const auto word = hn::BitCast(DU(), hn::GatherOffset(di, base, to_hwy(at)));
+      const auto shift = hn::BitCast(DU(), to_hwy((off - at) * IN(8)));
+      const IN shifted = from_hwy(hn::BitCast(di, hn::Shr(word, shift)));
+      return shifted & IN((1 << (8 * kSpan)) - 1);
+    }
+  }
 #endif
-  return out;
+  (void)level;
+  return idx;  // not reached: can_gather is false wherever this is not a gather
 }
 
 // The formats of the lane-parallel path: bytes a texel and channels stored.
@@ -190,13 +183,7 @@ inline F decode8(int_t<F> word, int c, const float* lut, bool srgb) {
   if (c >= kChannels) return F(c == 3 ? 1.0f : 0.0f);
   const I byte = (word >> (8 * c)) & I(0xff);
   if (!srgb || c == 3) return to_float(byte) / F(255.0f);  // == unorm8_table (tested)
-  if constexpr (std::is_same_v<F, F8>) {
-    return table_lookup8(lut, byte);
-  } else {
-    F r;
-    for (int k = 0; k < lane_width<F>; ++k) set_lane(r, k, lut[lane(byte, k)]);
-    return r;
-  }
+  return table_lookup<F>(lut, byte);
 }
 
 // Channel c of a texel word of format kFmt: 8-bit channels through decode8, R32F's one float as
@@ -258,8 +245,8 @@ template <class I> inline LevelSize<I> level_size(const Texture& t, I lvl) {
 // Row offset y * w of each lane: y << w_shift for power-of-two textures (the same value).
 template <class I> inline I row_offset(const I& y, const LevelSize<I>& size, bool pow2) {
   if (!pow2) return y * size.w;
-  if constexpr (std::is_same_v<I, I8>)
-    return I8(y.v << size.w_shift.v);
+  if constexpr (is_lanes_v<decltype(to_float(y))>)
+    return I(y.v << size.w_shift.v);
   else
     return y << size.w_shift;
 }
@@ -293,8 +280,10 @@ template <TexFormat kFmt, int kUsed, class F>
   const WordSource& src = at.src;
   constexpr int kB = texel_bytes(kFmt);
   I t00, t10, t01, t11;
-  if (src.gather) {
-    if constexpr (std::is_same_v<F, F8>) {
+  bool gathered = false;
+  if constexpr (kHwyLanes<F>) {
+    if (src.gather) {
+      gathered = true;
       const MipLevel& level = *src.level;
       // No lane on the wrap seam: each row's two texels in one word (R8, RG8).
       const bool pairs = kB <= 2 && all(x1 == x0 + I(1));
@@ -315,7 +304,8 @@ template <TexFormat kFmt, int kUsed, class F>
         t11 = gather_word<kB>(level, r1 + x1);
       }
     }
-  } else {
+  }
+  if (!gathered) {
     t00 = load_words<kB, F>(t, lvl, src.level, r0 + x0);
     t10 = load_words<kB, F>(t, lvl, src.level, r0 + x1);
     t01 = load_words<kB, F>(t, lvl, src.level, r1 + x0);
@@ -350,7 +340,7 @@ template <TexFormat kFmt, int kUsed, class F>
   const I idx = row_offset(y, n, pow2) + x;
   const WordSource& src = at.src;
   I word;
-  if constexpr (std::is_same_v<F, F8>)
+  if constexpr (kHwyLanes<F>)
     if (src.gather) word = gather_word<texel_bytes(kFmt)>(*src.level, idx);
   if (!src.gather) word = load_words<texel_bytes(kFmt), F>(t, lvl, src.level, idx);
   const bool srgb = t.color_space() == ColorSpace::kSRGB;
@@ -483,4 +473,8 @@ inline F texture_r_lod(const Texture& t, const SamplerState& s, V2<F> uv, F lod)
   });
 }
 
+}  // namespace HWY_NAMESPACE
 }  // namespace relief
+HWY_AFTER_NAMESPACE();
+
+#endif  // RELIEF_SHADERS_CPP_SAMPLING_H_

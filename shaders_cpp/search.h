@@ -17,7 +17,13 @@
 // the lane index within F (0 for float), so a source can hold one LOD per quad. TextureDepth reads
 // a depth texture through sample_r_lod at a constant LOD. A source may also offer
 // `F lanes(V2<F> uv) const`, every lane at once with the same values; sample_depth prefers it.
-#pragma once
+
+#if defined(RELIEF_SHADERS_CPP_SEARCH_H_) == defined(HWY_TARGET_TOGGLE)
+#ifdef RELIEF_SHADERS_CPP_SEARCH_H_
+#undef RELIEF_SHADERS_CPP_SEARCH_H_
+#else
+#define RELIEF_SHADERS_CPP_SEARCH_H_
+#endif
 
 #include <type_traits>
 
@@ -28,15 +34,19 @@
 #include "shaders_cpp/sampling_simd.h"
 #include "shaders_cpp/vec.h"
 
+#include <hwy/highway.h>
+
+HWY_BEFORE_NAMESPACE();
 namespace relief {
+namespace HWY_NAMESPACE {
 
 // The first channel of `t` at uv with the lanes' LODs lod[0..lanes): the lane-parallel sampler,
-// for F8 through `plan` (sampling_simd.h: levels chosen once for the LODs, the read out of line),
+// for the native lanes FN through `plan` (sampling_simd.h: levels chosen once for the LODs, the read out of line),
 // bit-identical to sample_r_lod per lane.
 template <class F>
 inline F r_lod_lanes(const Texture& t, const SamplerState& s, const float* lod, V2<F> uv,
                      RLodPlan& plan) {
-  if constexpr (std::is_same_v<F, F8>) {
+  if constexpr (std::is_same_v<F, FN>) {
     return texture_r_lod_planned(t, s, lod, uv, plan);
   } else {
     (void)plan;
@@ -50,7 +60,7 @@ inline F r_lod_lanes(const Texture& t, const SamplerState& s, const float* lod, 
 struct TextureDepth {
   const Texture* texture = nullptr;
   const SamplerState* sampler = nullptr;
-  float lod[8] = {};
+  float lod[kLanes] = {};
   mutable RLodPlan plan;
   float operator()(int lane, float u, float v) const {
     return sample_r_lod(*texture, *sampler, glm::vec2(u, v), lod[lane]);
@@ -265,4 +275,8 @@ inline SearchHit<F> parallax_offset(const Depth& depth, V2<F> uv, V2<F> ds, F vz
   return hit;
 }
 
+}  // namespace HWY_NAMESPACE
 }  // namespace relief
+HWY_AFTER_NAMESPACE();
+
+#endif  // RELIEF_SHADERS_CPP_SEARCH_H_

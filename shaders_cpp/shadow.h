@@ -10,13 +10,23 @@
 // depth_scale). The shadow ray is (uv + dl * s, t - s) for s in (0, t]: it leaves the surface
 // upward and is above everything once its depth reaches 0. A sample occludes when the surface is
 // above the ray by more than `bias`: D(uv + dl * s) < t - s - bias.
-#pragma once
+
+#if defined(RELIEF_SHADERS_CPP_SHADOW_H_) == defined(HWY_TARGET_TOGGLE)
+#ifdef RELIEF_SHADERS_CPP_SHADOW_H_
+#undef RELIEF_SHADERS_CPP_SHADOW_H_
+#else
+#define RELIEF_SHADERS_CPP_SHADOW_H_
+#endif
 
 #include "shaders_cpp/lanes.h"
 #include "shaders_cpp/search.h"
 #include "shaders_cpp/vec.h"
 
+#include <hwy/highway.h>
+
+HWY_BEFORE_NAMESPACE();
 namespace relief {
+namespace HWY_NAMESPACE {
 
 template <class F>
 struct ShadowResult {
@@ -64,4 +74,8 @@ inline ShadowResult<F> self_shadow(const Depth& depth, V2<F> uv, F t, V2<F> dl, 
   return {vis, steps, fetches};
 }
 
+}  // namespace HWY_NAMESPACE
 }  // namespace relief
+HWY_AFTER_NAMESPACE();
+
+#endif  // RELIEF_SHADERS_CPP_SHADOW_H_

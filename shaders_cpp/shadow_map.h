@@ -10,18 +10,15 @@
 // at pixel coordinates (i + 0.5, j + 0.5) as the rasterizer samples. Comparisons are made in linear
 // distance from the light along its view axis (world units). A point light's cube has six faces
 // in the order +x, -x, +y, -y, +z, -z, each a 90 degree perspective view.
-#pragma once
 
+#ifndef RELIEF_SHADERS_CPP_SHADOW_MAP_H_ONCE
+#define RELIEF_SHADERS_CPP_SHADOW_MAP_H_ONCE
 #include <algorithm>
 #include <cmath>
-
 #include <glm/mat3x3.hpp>
 #include <glm/mat4x4.hpp>
 #include <glm/vec3.hpp>
-
 #include "plugins/plugin.h"
-#include "shaders_cpp/lanes.h"
-#include "shaders_cpp/vec.h"
 
 namespace relief {
 
@@ -129,6 +126,32 @@ inline float shadow_lookup(const ShadowMapView& m, glm::vec3 p, glm::vec3 n, glm
 
 }  // namespace detail
 
+}  // namespace relief
+#endif  // RELIEF_SHADERS_CPP_SHADOW_MAP_H_ONCE
+
+#if defined(RELIEF_SHADERS_CPP_SHADOW_MAP_H_) == defined(HWY_TARGET_TOGGLE)
+#ifdef RELIEF_SHADERS_CPP_SHADOW_MAP_H_
+#undef RELIEF_SHADERS_CPP_SHADOW_MAP_H_
+#else
+#define RELIEF_SHADERS_CPP_SHADOW_MAP_H_
+#endif
+
+#include <algorithm>
+#include <cmath>
+
+#include <glm/mat3x3.hpp>
+#include <glm/mat4x4.hpp>
+#include <glm/vec3.hpp>
+
+#include "plugins/plugin.h"
+#include "shaders_cpp/lanes.h"
+#include "shaders_cpp/vec.h"
+
+#include <hwy/highway.h>
+
+HWY_BEFORE_NAMESPACE();
+namespace relief {
+namespace HWY_NAMESPACE {
 // Shadow-map visibility in [0, 1] per lane of the points p (world), unit normals n and unit
 // directions to the light l; lanes outside `active` get 1 and fetch nothing. The taps are added
 // to `fetches` per lane.
@@ -139,7 +162,7 @@ inline F shadow_map_visibility(const ShadowMapView& m, const V3<F>& p, const V3<
   const F vis = per_lane(F(0.0f), [&](int i) {
     if (!lane(active, i)) return 1.0f;
     float t = 0.0f;
-    const float v = detail::shadow_lookup(m, glm::vec3(lane(p.x, i), lane(p.y, i), lane(p.z, i)),
+    const float v = relief::detail::shadow_lookup(m, glm::vec3(lane(p.x, i), lane(p.y, i), lane(p.z, i)),
                                           glm::vec3(lane(n.x, i), lane(n.y, i), lane(n.z, i)),
                                           glm::vec3(lane(l.x, i), lane(l.y, i), lane(l.z, i)), t);
     set_lane(taps, i, t);
@@ -163,4 +186,8 @@ struct ShadowMapReceiver {
   }
 };
 
+}  // namespace HWY_NAMESPACE
 }  // namespace relief
+HWY_AFTER_NAMESPACE();
+
+#endif  // RELIEF_SHADERS_CPP_SHADOW_MAP_H_

@@ -1,23 +1,30 @@
 // Small vectors over a lane type F (float or F8): the GLSL vec2/vec3/vec4 of kernels.
-#pragma once
+
+#if defined(RELIEF_SHADERS_CPP_VEC_H_) == defined(HWY_TARGET_TOGGLE)
+#ifdef RELIEF_SHADERS_CPP_VEC_H_
+#undef RELIEF_SHADERS_CPP_VEC_H_
+#else
+#define RELIEF_SHADERS_CPP_VEC_H_
+#endif
 
 #include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
 #include <glm/vec4.hpp>
+#include <type_traits>
 
 #include "shaders_cpp/lanes.h"
 
+#include <hwy/highway.h>
+
+HWY_BEFORE_NAMESPACE();
 namespace relief {
+namespace HWY_NAMESPACE {
 
 template <class F> struct V2 {
   F x, y;
   V2() = default;
   V2(F a, F b) : x(a), y(b) {}
   explicit V2(glm::vec2 v) : x(v.x), y(v.y) {}
-  friend V2 operator+(V2 a, V2 b) { return {a.x + b.x, a.y + b.y}; }
-  friend V2 operator-(V2 a, V2 b) { return {a.x - b.x, a.y - b.y}; }
-  friend V2 operator*(V2 a, F s) { return {a.x * s, a.y * s}; }
-  friend V2 operator*(V2 a, V2 b) { return {a.x * b.x, a.y * b.y}; }
 };
 
 template <class F> struct V3 {
@@ -25,11 +32,6 @@ template <class F> struct V3 {
   V3() = default;
   V3(F a, F b, F c) : x(a), y(b), z(c) {}
   explicit V3(glm::vec3 v) : x(v.x), y(v.y), z(v.z) {}
-  friend V3 operator+(V3 a, V3 b) { return {a.x + b.x, a.y + b.y, a.z + b.z}; }
-  friend V3 operator-(V3 a, V3 b) { return {a.x - b.x, a.y - b.y, a.z - b.z}; }
-  friend V3 operator-(V3 a) { return {-a.x, -a.y, -a.z}; }
-  friend V3 operator*(V3 a, F s) { return {a.x * s, a.y * s, a.z * s}; }
-  friend V3 operator*(V3 a, V3 b) { return {a.x * b.x, a.y * b.y, a.z * b.z}; }
   V3& operator+=(V3 b) {
     x += b.x;
     y += b.y;
@@ -37,6 +39,28 @@ template <class F> struct V3 {
     return *this;
   }
 };
+
+// Namespace-scope operators, not friends: see lanes.h. The scalar operand of `*` is not deduced,
+// so `v * 0.5f` broadcasts as with a friend.
+template <class F> inline V2<F> operator+(V2<F> a, V2<F> b) { return {a.x + b.x, a.y + b.y}; }
+template <class F> inline V2<F> operator-(V2<F> a, V2<F> b) { return {a.x - b.x, a.y - b.y}; }
+template <class F> inline V2<F> operator*(V2<F> a, std::type_identity_t<F> s) {
+  return {a.x * s, a.y * s};
+}
+template <class F> inline V2<F> operator*(V2<F> a, V2<F> b) { return {a.x * b.x, a.y * b.y}; }
+template <class F> inline V3<F> operator+(V3<F> a, V3<F> b) {
+  return {a.x + b.x, a.y + b.y, a.z + b.z};
+}
+template <class F> inline V3<F> operator-(V3<F> a, V3<F> b) {
+  return {a.x - b.x, a.y - b.y, a.z - b.z};
+}
+template <class F> inline V3<F> operator-(V3<F> a) { return {-a.x, -a.y, -a.z}; }
+template <class F> inline V3<F> operator*(V3<F> a, std::type_identity_t<F> s) {
+  return {a.x * s, a.y * s, a.z * s};
+}
+template <class F> inline V3<F> operator*(V3<F> a, V3<F> b) {
+  return {a.x * b.x, a.y * b.y, a.z * b.z};
+}
 
 template <class F> inline F dot(V3<F> a, V3<F> b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
 template <class F> inline V3<F> cross(V3<F> a, V3<F> b) {
@@ -57,4 +81,8 @@ template <class F> inline V2<F> select(mask_t<F> m, V2<F> a, V2<F> b) {
 }
 template <class F> inline V3<F> mix(V3<F> a, V3<F> b, F t) { return a + (b - a) * t; }
 
+}  // namespace HWY_NAMESPACE
 }  // namespace relief
+HWY_AFTER_NAMESPACE();
+
+#endif  // RELIEF_SHADERS_CPP_VEC_H_

@@ -1,12 +1,14 @@
-// The AVX2 and baseline code paths (rasterizer/simd.h) give bit-identical frames: traversal,
-// interpolation, sampling and lighting do the same IEEE operations in both, with no FMA
-// contraction (-ffp-contract=off).
+// Every SIMD level (base/simd.h: baseline, AVX2, AVX-512, each a Highway target compiled into
+// its own namespace) gives bit-identical frames, and so does the scalar reference path: traversal,
+// interpolation, sampling and lighting do the same IEEE operations on every target, with no FMA
+// contraction (-ffp-contract=off). Levels this CPU lacks are skipped, saying so.
 #include <gtest/gtest.h>
 
+#include <cstdio>
 #include <memory>
 #include <vector>
 
-#include "rasterizer/simd.h"
+#include "base/simd.h"
 #include "render/render.h"
 #include "scene/builtin.h"
 
@@ -52,37 +54,61 @@ TEST(Simd, SetLevelIsClampedToTheCpu) {
   RestoreLevel restore;
   EXPECT_EQ(set_simd_level(SimdLevel::kBaseline), SimdLevel::kBaseline);
   EXPECT_EQ(simd_level(), SimdLevel::kBaseline);
-  EXPECT_FALSE(simd_avx2());
-  EXPECT_EQ(set_simd_level(SimdLevel::kAvx2), simd_supported());
-  EXPECT_EQ(simd_avx2(), simd_supported() == SimdLevel::kAvx2);
+  EXPECT_EQ(set_simd_level(SimdLevel::kAvx512), simd_supported());
+  const std::vector<SimdLevel> levels = simd_levels_supported();
+  ASSERT_FALSE(levels.empty());
+  EXPECT_EQ(levels.front(), SimdLevel::kBaseline);
+  EXPECT_EQ(levels.back(), simd_supported());
+  // A level the CPU lacks clamps to the best one below it.
+  const SimdLevel avx2 = set_simd_level(SimdLevel::kAvx2);
+  EXPECT_TRUE(avx2 == SimdLevel::kAvx2 || avx2 == SimdLevel::kBaseline);
   EXPECT_STREQ(simd_level_name(SimdLevel::kAvx2), "avx2");
+  EXPECT_STREQ(simd_level_name(SimdLevel::kAvx512), "avx512");
+  EXPECT_STREQ(simd_level_name(SimdLevel::kBaseline), "baseline");
 }
 
-TEST(Simd, Avx2AndBaselineFramesAreBitIdentical) {
-  if (simd_supported() != SimdLevel::kAvx2) GTEST_SKIP() << "no AVX2 on this CPU";
+// The levels above baseline this CPU runs; says which are skipped.
+std::vector<SimdLevel> vector_levels() {
+  std::vector<SimdLevel> out;
+  for (SimdLevel l : simd_levels_supported())
+    if (l != SimdLevel::kBaseline) out.push_back(l);
+  if (simd_supported() != SimdLevel::kAvx512)
+    std::printf("[ SKIPPED  ] the AVX-512 level: this CPU lacks it\n");
+  return out;
+}
+
+TEST(Simd, EveryLevelAndTheScalarPathGiveTheSameFrame) {
   RestoreLevel restore;
   SceneFrames frames;
+  const std::vector<SimdLevel> levels = vector_levels();
+  if (levels.empty()) GTEST_SKIP() << "this CPU runs the baseline level only";
   for (const char* technique : {"flat", "normal", "relief", "pom"}) {
-    for (bool scalar : {false, true}) {
-      set_simd_level(SimdLevel::kBaseline);
-      const Framebuffer base = frames.frame(technique, scalar);
-      set_simd_level(SimdLevel::kAvx2);
-      const Framebuffer avx2 = frames.frame(technique, scalar);
-      EXPECT_TRUE(identical(base, avx2)) << technique << (scalar ? " scalar" : " F8");
-      // and the frame is not trivially empty
-      int covered = 0;
-      for (float d : avx2.depth.values) covered += d > 0.0f;
-      EXPECT_GT(covered, 240 * 136 / 2) << technique;
+    set_simd_level(SimdLevel::kBaseline);
+    const Framebuffer base = frames.frame(technique, false);
+    const Framebuffer scalar = frames.frame(technique, true);
+    EXPECT_TRUE(identical(base, scalar)) << technique << " scalar lanes";
+    for (SimdLevel level : levels) {
+      set_simd_level(level);
+      for (bool scalar_lanes : {false, true}) {
+        const Framebuffer f = frames.frame(technique, scalar_lanes);
+        EXPECT_TRUE(identical(base, f))
+            << technique << " " << simd_level_name(level) << (scalar_lanes ? " scalar" : " lanes");
+        // and the frame is not trivially empty
+        int covered = 0;
+        for (float d : f.depth.values) covered += d > 0.0f;
+        EXPECT_GT(covered, 240 * 136 / 2) << technique;
+      }
     }
   }
 }
 
-// Every built-in technique has an AVX2 clone of its 8-lane packet loop: on `room` (a shadow pass
-// for the spot light, received shadows, self-shadow, depth writes) and on the curved scenes of
-// the quadric and dual-depth plugins, the two levels give the same bits.
+// Every built-in technique on every level: on `room` (a shadow pass for the spot light, received
+// shadows, self-shadow, depth writes) and on the curved scenes of the quadric and dual-depth
+// plugins, all levels give the baseline's bits.
 TEST(Simd, EveryTechniqueIsBitIdenticalAcrossLevels) {
-  if (simd_supported() != SimdLevel::kAvx2) GTEST_SKIP() << "no AVX2 on this CPU";
   RestoreLevel restore;
+  const std::vector<SimdLevel> levels = vector_levels();
+  if (levels.empty()) GTEST_SKIP() << "this CPU runs the baseline level only";
   struct Case {
     const char* scene;
     std::vector<const char*> techniques;
@@ -99,12 +125,15 @@ TEST(Simd, EveryTechniqueIsBitIdenticalAcrossLevels) {
     for (const char* technique : c.techniques) {
       set_simd_level(SimdLevel::kBaseline);
       const Framebuffer base = frames.frame(technique, false);
-      set_simd_level(SimdLevel::kAvx2);
-      const Framebuffer avx2 = frames.frame(technique, false);
-      EXPECT_TRUE(identical(base, avx2)) << c.scene << " " << technique;
-      int covered = 0;
-      for (float d : avx2.depth.values) covered += d > 0.0f;
-      EXPECT_GT(covered, 240 * 136 / 10) << c.scene << " " << technique;
+      for (SimdLevel level : levels) {
+        set_simd_level(level);
+        const Framebuffer f = frames.frame(technique, false);
+        EXPECT_TRUE(identical(base, f)) << c.scene << " " << technique << " "
+                                        << simd_level_name(level);
+        int covered = 0;
+        for (float d : f.depth.values) covered += d > 0.0f;
+        EXPECT_GT(covered, 240 * 136 / 10) << c.scene << " " << technique;
+      }
     }
   }
 }

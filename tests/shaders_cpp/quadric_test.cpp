@@ -277,7 +277,7 @@ TEST(Quadric, RelaxedConeSearchFindsTheAnalyticHitOnAConstantField) {
     const QuadricHit<float> h = quadric_relaxed_cone_search<QuadricDistance::kApproximate>(
         field, cone, V2<float>(0.2f, 0.6f), r, 64, 8, 24, 1.0f / 512.0f, true);
     const float k = r.alpha * r.dir.x * r.dir.x + r.beta * r.dir.y * r.dir.y;
-    const float t_ref = detail::smallest_positive_root(k, -r.dir.z, field.c, 3.0e38f);
+    const float t_ref = HWY_NAMESPACE::detail::smallest_positive_root(k, -r.dir.z, field.c, 3.0e38f);
     const bool miss_ref = !(t_ref <= r.t_max);
     ASSERT_EQ(h.miss, miss_ref) << i << " t_ref " << t_ref << " t_max " << r.t_max;
     if (miss_ref) {

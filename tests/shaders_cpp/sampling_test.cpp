@@ -48,7 +48,7 @@ TEST(Sampling, TextureLodMatchesSampleLodBitForBit) {
               s.filter = filter;
               s.wrap_u = wu;
               s.wrap_v = wv;
-              ASSERT_TRUE(detail::vector_sampling_ok(t, s));
+              ASSERT_TRUE(HWY_NAMESPACE::detail::vector_sampling_ok(t, s));
               for (int n = 0; n < 16; ++n) {
                 F8 u, v, lod;
                 for (int i = 0; i < 8; ++i) {
@@ -59,7 +59,7 @@ TEST(Sampling, TextureLodMatchesSampleLodBitForBit) {
                 const V4<F8> r8 = texture_lod(t, s, V2<F8>(u, v), lod);
                 const F8 red = texture_r_lod(t, s, V2<F8>(u, v), lod);
                 // the out-of-line entry: its AVX2 clone (gathers) where the CPU has AVX2
-                const F8 red_entry = texture_r_lod_dispatch(t, s, V2<F8>(u, v), lod);
+                const F8 red_entry = texture_r_lod_lanes(t, s, V2<F8>(u, v), lod);
                 for (int i = 0; i < 8; ++i) {
                   const glm::vec4 ref = sample_lod(t, s, {u[i], v[i]}, lod[i]);
                   const V4<float> r1 = texture_lod(t, s, V2<float>(u[i], v[i]), lod[i]);
@@ -123,7 +123,7 @@ TEST(Sampling, GradEntryMatchesInlineTextureGrad) {
             dy.y.set(i, one_lod ? 0.03f : dd(rng));
           }
           const V4<F8> a = texture_grad(t, s, uv, dx, dy);
-          const V4<F8> b = texture_grad_dispatch(t, s, uv, dx, dy);
+          const V4<F8> b = texture_grad_lanes(t, s, uv, dx, dy);
           for (int i = 0; i < 8; ++i) {
             ASSERT_EQ(float_bits(a.x[i]), float_bits(b.x[i])) << format_name(f);
             ASSERT_EQ(float_bits(a.y[i]), float_bits(b.y[i])) << format_name(f);

@@ -300,7 +300,7 @@ QuadricHit<F> quadric_relaxed_before(const Field& f, float lod, const Cone& cone
     found = found | (marching & in);
     marching = marching & !in & !end;
     t_out = select(marching, t, t_out);
-    const F root = detail::smallest_positive_root(
+    const F root = HWY_NAMESPACE::detail::smallest_positive_root(
         c.ratio * k, F(0.0f) - (rho + c.ratio * (r.dir.z - F(2.0f) * k * t)), c.ratio * h,
         F(3.0e38f));
     t = select(marching, vmin(t + select(c.ratio > F(0.0f), root, F(0.0f)), r.t_max), t);
