@@ -109,6 +109,12 @@ class Reader {
     int camera, node, order;
     glm::dmat4 world;
   };
+  // A texture a material reads: (slot, reference, use).
+  struct TextureSlot {
+    std::string name;
+    TexRef ref;
+    TexUse use;
+  };
   struct View {
     const uint8_t* data = nullptr;
     size_t stride = 0;
@@ -154,6 +160,18 @@ class Reader {
 
   // ---- materials (gltf_read_materials.cpp) ----
   Result<MaterialInfo> read_material(int index);
+  Status read_core_material(const tinygltf::Material& gm, const std::string& mp, Material& mat,
+                            std::vector<TextureSlot>& slots) const;
+  Status read_khr_material_extensions(const tinygltf::Material& gm, const std::string& mp,
+                                      Material& mat) const;
+  Status read_relief_material(const json& e, const std::string& ep, Material& mat,
+                              std::vector<TextureSlot>& slots, bool& normal_from_depth,
+                              int& max_aniso) const;
+  Status read_relief_textures(const json& e, const std::string& ep, bool depth_is_height,
+                              const std::string& technique, std::vector<TextureSlot>& slots) const;
+  Status read_relief_params(const json& e, const std::string& ep, Material& mat) const;
+  Status load_material_textures(const std::vector<TextureSlot>& slots, MaterialInfo& info);
+  Status check_required_textures(const Material& mat, const std::string& pointer) const;
   static const PluginDescriptor* declaring_plugin(const std::string& technique,
                                                   const std::string& name);
   Status check_params(const Material& mat,

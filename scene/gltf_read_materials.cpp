@@ -60,12 +60,54 @@ UvMap relative_uv_map(const UvTransform& t, const UvTransform& main) {
 
 }  // namespace
 
+// A material: its core properties, KHR_materials_emissive_strength and KHR_materials_unlit,
+// RELIEF_relief_mapping (technique, relief textures, parameters), then every texture it reads.
 Result<Reader::MaterialInfo> Reader::read_material(int index) {
   const tinygltf::Material& gm = m_.materials[index];
   const std::string mp = "/materials/" + std::to_string(index);
   MaterialInfo info;
   Material& mat = info.material;
   mat.name = gm.name.empty() ? "material" + std::to_string(index) : gm.name;
+  std::vector<TextureSlot> slots;
+  RELIEF_RETURN_IF_ERROR(read_core_material(gm, mp, mat, slots));
+  RELIEF_RETURN_IF_ERROR(read_khr_material_extensions(gm, mp, mat));
+
+  Result<json> ext = extension(gm.extensions_json_string, kReliefExtension, mp);
+  if (!ext.ok()) return ext.status();
+  const std::string ep = mp + "/extensions/" + kReliefExtension;
+  bool normal_from_depth = true;
+  int max_aniso = 0;
+  if (ext->is_null()) {
+    mat.technique = gm.normalTexture.index >= 0 ? "normal" : "flat";
+  } else {
+    RELIEF_RETURN_IF_ERROR(
+        read_relief_material(*ext, ep, mat, slots, normal_from_depth, max_aniso));
+  }
+
+  RELIEF_RETURN_IF_ERROR(load_material_textures(slots, info));
+  if (max_aniso > 1) {
+    mat.sampler.filter = Filter::kAnisotropic;
+    mat.sampler.max_aniso = max_aniso;
+  }
+  if (info.uv.rotation != 0.0) {
+    info.bake_uv = true;  // applied to the uvs of every primitive that uses the material
+  } else {
+    mat.uv_scale = glm::vec2(info.uv.scale);
+    mat.uv_offset = glm::vec2(info.uv.offset);
+  }
+  // The normal map a relief material needs, derived from its depth map when none is given.
+  if (mat.textures.count("depth") && !mat.textures.count("normal") && normal_from_depth) {
+    mat.textures["normal"] =
+        std::make_shared<Texture>(derived_normal_map(mat, *mat.textures["depth"]));
+  }
+  RELIEF_RETURN_IF_ERROR(check_required_textures(mat, ext->is_null() ? mp : ep));
+  return info;
+}
+
+// The core material: doubleSided, alpha, base colour, normal, emissive and occlusion (their
+// factors, and their textures as slots).
+Status Reader::read_core_material(const tinygltf::Material& gm, const std::string& mp,
+                                  Material& mat, std::vector<TextureSlot>& slots) const {
   mat.double_sided = gm.doubleSided;
   // alphaMode (validated: OPAQUE, MASK or BLEND) and alphaCutoff (MASK only, >= 0)
   mat.alpha_mode = gm.alphaMode == "MASK"    ? AlphaMode::kMask
@@ -81,13 +123,6 @@ Result<Reader::MaterialInfo> Reader::read_material(int index) {
       mat.base_color[i] = static_cast<float>(bcf[i]);
     }
   }
-  // (slot, reference, use)
-  struct Slot {
-    std::string name;
-    TexRef ref;
-    TexUse use;
-  };
-  std::vector<Slot> slots;
   const auto& bct = gm.pbrMetallicRoughness.baseColorTexture;
   if (bct.index >= 0) {
     Result<TexRef> r = tex_ref(bct.index, bct.texCoord, bct.extensions_json_string,
@@ -105,7 +140,7 @@ Result<Reader::MaterialInfo> Reader::read_material(int index) {
     if (!r.ok()) return r.status();
     slots.push_back({"normal", *r, TexUse::kLinear});
   }
-  // Emissive, occlusion and unlit (plugins/surface.h finish_surface).
+  // Emissive and occlusion (plugins/surface.h finish_surface; unlit: read_khr_material_extensions).
   if (gm.emissiveFactor.size() == 3) {
     for (int i = 0; i < 3; ++i) {
       if (!std::isfinite(gm.emissiveFactor[i]) || gm.emissiveFactor[i] < 0.0 ||
@@ -131,159 +166,175 @@ Result<Reader::MaterialInfo> Reader::read_material(int index) {
     if (!r.ok()) return r.status();
     slots.push_back({"occlusion", *r, TexUse::kLinear});
   }
-  {
-    Result<json> es = extension(gm.extensions_json_string, kEmissiveStrength, mp);
-    if (!es.ok()) return es.status();
-    if (!es->is_null()) {
-      const std::string p = mp + "/extensions/" + kEmissiveStrength;
-      RELIEF_RETURN_IF_ERROR(check_keys(*es, p, {"emissiveStrength"}));
-      double strength = 1.0;
-      RELIEF_RETURN_IF_ERROR(get_number(*es, "emissiveStrength", p, strength, 0.0, 1e6));
-      mat.emissive_strength = static_cast<float>(strength);
-    }
-    Result<json> unlit = extension(gm.extensions_json_string, kUnlit, mp);
-    if (!unlit.ok()) return unlit.status();
-    if (!unlit->is_null()) {
-      RELIEF_RETURN_IF_ERROR(check_keys(*unlit, mp + "/extensions/" + kUnlit, {}));
-      mat.unlit = true;
-    }
-  }
+  return {};
+}
 
-  Result<json> ext = extension(gm.extensions_json_string, kReliefExtension, mp);
-  if (!ext.ok()) return ext.status();
-  const std::string ep = mp + "/extensions/" + kReliefExtension;
-  bool normal_from_depth = true;
-  int max_aniso = 0;
+// KHR_materials_emissive_strength and KHR_materials_unlit.
+Status Reader::read_khr_material_extensions(const tinygltf::Material& gm, const std::string& mp,
+                                            Material& mat) const {
+  Result<json> es = extension(gm.extensions_json_string, kEmissiveStrength, mp);
+  if (!es.ok()) return es.status();
+  if (!es->is_null()) {
+    const std::string p = mp + "/extensions/" + kEmissiveStrength;
+    RELIEF_RETURN_IF_ERROR(check_keys(*es, p, {"emissiveStrength"}));
+    double strength = 1.0;
+    RELIEF_RETURN_IF_ERROR(get_number(*es, "emissiveStrength", p, strength, 0.0, 1e6));
+    mat.emissive_strength = static_cast<float>(strength);
+  }
+  Result<json> unlit = extension(gm.extensions_json_string, kUnlit, mp);
+  if (!unlit.ok()) return unlit.status();
+  if (!unlit->is_null()) {
+    RELIEF_RETURN_IF_ERROR(check_keys(*unlit, mp + "/extensions/" + kUnlit, {}));
+    mat.unlit = true;
+  }
+  return {};
+}
+
+// The material's RELIEF_relief_mapping object `e` (at `ep`): technique, flags, Blinn-Phong terms,
+// relief textures and plugin parameters.
+Status Reader::read_relief_material(const json& e, const std::string& ep, Material& mat,
+                                    std::vector<TextureSlot>& slots, bool& normal_from_depth,
+                                    int& max_aniso) const {
+  RELIEF_RETURN_IF_ERROR(check_keys(
+      e, ep, {"technique",      "depth_texture",   "depth_is_height",    "normal_from_depth",
+              "cone_texture",   "cone_kind",       "depth_scale",        "steps",
+              "binary_steps",   "self_shadow",     "depth_write",        "silhouette",
+              "casts_shadow",   "receives_shadow", "specular",           "shininess",
+              "max_anisotropy", "params",          "depth_back_texture", "normal_back_texture"}));
+  mat.technique = "relief";
+  if (e.contains("technique")) {
+    if (!e["technique"].is_string() || e["technique"].get<std::string>().empty())
+      return fail(ep + "/technique", "expected a technique name, got " + e["technique"].dump());
+    mat.technique = e["technique"].get<std::string>();
+  }
+  if (!PluginRegistry::global().find(mat.technique)) {
+    std::string known;
+    for (const PluginDescriptor* p : PluginRegistry::global().all())
+      known += (known.empty() ? "" : ", ") + std::string(p->name);
+    return fail(ep + "/technique",
+                "unknown technique '" + mat.technique + "' (known: " + known + ")");
+  }
+  bool depth_is_height = false;
+  RELIEF_RETURN_IF_ERROR(get_bool(e, "depth_is_height", ep, depth_is_height));
+  RELIEF_RETURN_IF_ERROR(get_bool(e, "normal_from_depth", ep, normal_from_depth));
+  RELIEF_RETURN_IF_ERROR(get_bool(e, "self_shadow", ep, mat.self_shadow));
+  RELIEF_RETURN_IF_ERROR(get_bool(e, "depth_write", ep, mat.depth_write));
+  RELIEF_RETURN_IF_ERROR(get_bool(e, "silhouette", ep, mat.silhouette));
+  RELIEF_RETURN_IF_ERROR(get_bool(e, "casts_shadow", ep, mat.casts_shadow));
+  RELIEF_RETURN_IF_ERROR(get_bool(e, "receives_shadow", ep, mat.receives_shadow));
+  double specular = mat.specular, shininess = mat.shininess;
+  RELIEF_RETURN_IF_ERROR(get_number(e, "specular", ep, specular, 0.0, 1e6));
+  RELIEF_RETURN_IF_ERROR(get_number(e, "shininess", ep, shininess, 0.0, 1e6));
+  mat.specular = static_cast<float>(specular);
+  mat.shininess = static_cast<float>(shininess);
+  RELIEF_RETURN_IF_ERROR(get_int(e, "max_anisotropy", ep, max_aniso, 1, 16));
+  RELIEF_RETURN_IF_ERROR(read_relief_textures(e, ep, depth_is_height, mat.technique, slots));
+  return read_relief_params(e, ep, mat);
+}
+
+// The relief textures of RELIEF_relief_mapping `e` as slots: depth, relief_dual's back layer,
+// the cone map.
+Status Reader::read_relief_textures(const json& e, const std::string& ep, bool depth_is_height,
+                                    const std::string& technique,
+                                    std::vector<TextureSlot>& slots) const {
+  if (e.contains("depth_texture")) {
+    Result<TexRef> r = tex_ref_from_json(e["depth_texture"], ep + "/depth_texture");
+    if (!r.ok()) return r.status();
+    slots.push_back({"depth", *r, depth_is_height ? TexUse::kHeight : TexUse::kDepth});
+  }
+  // relief_dual's back layer: where the object ends (its depth) and its normals.
+  if (e.contains("depth_back_texture")) {
+    Result<TexRef> r = tex_ref_from_json(e["depth_back_texture"], ep + "/depth_back_texture");
+    if (!r.ok()) return r.status();
+    slots.push_back({"depth_back", *r, depth_is_height ? TexUse::kHeight : TexUse::kDepth});
+  }
+  if (e.contains("normal_back_texture")) {
+    Result<TexRef> r = tex_ref_from_json(e["normal_back_texture"], ep + "/normal_back_texture");
+    if (!r.ok()) return r.status();
+    slots.push_back({"normal_back", *r, TexUse::kLinear});
+  }
+  if (e.contains("cone_texture")) {
+    Result<TexRef> r = tex_ref_from_json(e["cone_texture"], ep + "/cone_texture");
+    if (!r.ok()) return r.status();
+    // The slot is cone_<kind>: cone_kind, else the kind the technique reads.
+    std::string kind;
+    if (e.contains("cone_kind")) {
+      const json& k = e["cone_kind"];
+      if (!k.is_string() || (k != "conservative" && k != "quad" && k != "relaxed"))
+        return fail(ep + "/cone_kind", "expected conservative, quad or relaxed, got " + k.dump());
+      kind = k.get<std::string>();
+    } else if (const PluginDescriptor* p = PluginRegistry::global().find(technique)) {
+      for (int i = 0; i < p->num_textures && kind.empty(); ++i)
+        if (std::string(p->textures[i].name).rfind("cone_", 0) == 0) kind = p->textures[i].name + 5;
+    }
+    if (kind.empty())
+      return fail(ep + "/cone_texture",
+                  "technique " + technique + " reads no cone map: give cone_kind");
+    slots.push_back({"cone_" + kind, *r, TexUse::kCone});
+  }
+  return {};
+}
+
+// Plugin parameters: the three common ones at the top level, any other in "params".
+Status Reader::read_relief_params(const json& e, const std::string& ep, Material& mat) const {
   std::map<std::string, std::string> param_pointer;  // parameter -> JSON pointer
-  if (ext->is_null()) {
-    mat.technique = gm.normalTexture.index >= 0 ? "normal" : "flat";
-  } else {
-    const json& e = *ext;
-    RELIEF_RETURN_IF_ERROR(check_keys(
-        e, ep, {"technique",      "depth_texture",   "depth_is_height",    "normal_from_depth",
-                "cone_texture",   "cone_kind",       "depth_scale",        "steps",
-                "binary_steps",   "self_shadow",     "depth_write",        "silhouette",
-                "casts_shadow",   "receives_shadow", "specular",           "shininess",
-                "max_anisotropy", "params",          "depth_back_texture", "normal_back_texture"}));
-    mat.technique = "relief";
-    if (e.contains("technique")) {
-      if (!e["technique"].is_string() || e["technique"].get<std::string>().empty())
-        return fail(ep + "/technique", "expected a technique name, got " + e["technique"].dump());
-      mat.technique = e["technique"].get<std::string>();
-    }
-    if (!PluginRegistry::global().find(mat.technique)) {
-      std::string known;
-      for (const PluginDescriptor* p : PluginRegistry::global().all())
-        known += (known.empty() ? "" : ", ") + std::string(p->name);
-      return fail(ep + "/technique",
-                  "unknown technique '" + mat.technique + "' (known: " + known + ")");
-    }
-    bool depth_is_height = false;
-    RELIEF_RETURN_IF_ERROR(get_bool(e, "depth_is_height", ep, depth_is_height));
-    RELIEF_RETURN_IF_ERROR(get_bool(e, "normal_from_depth", ep, normal_from_depth));
-    RELIEF_RETURN_IF_ERROR(get_bool(e, "self_shadow", ep, mat.self_shadow));
-    RELIEF_RETURN_IF_ERROR(get_bool(e, "depth_write", ep, mat.depth_write));
-    RELIEF_RETURN_IF_ERROR(get_bool(e, "silhouette", ep, mat.silhouette));
-    RELIEF_RETURN_IF_ERROR(get_bool(e, "casts_shadow", ep, mat.casts_shadow));
-    RELIEF_RETURN_IF_ERROR(get_bool(e, "receives_shadow", ep, mat.receives_shadow));
-    double specular = mat.specular, shininess = mat.shininess;
-    RELIEF_RETURN_IF_ERROR(get_number(e, "specular", ep, specular, 0.0, 1e6));
-    RELIEF_RETURN_IF_ERROR(get_number(e, "shininess", ep, shininess, 0.0, 1e6));
-    mat.specular = static_cast<float>(specular);
-    mat.shininess = static_cast<float>(shininess);
-    RELIEF_RETURN_IF_ERROR(get_int(e, "max_anisotropy", ep, max_aniso, 1, 16));
-    if (e.contains("depth_texture")) {
-      Result<TexRef> r = tex_ref_from_json(e["depth_texture"], ep + "/depth_texture");
-      if (!r.ok()) return r.status();
-      slots.push_back({"depth", *r, depth_is_height ? TexUse::kHeight : TexUse::kDepth});
-    }
-    // relief_dual's back layer: where the object ends (its depth) and its normals.
-    if (e.contains("depth_back_texture")) {
-      Result<TexRef> r = tex_ref_from_json(e["depth_back_texture"], ep + "/depth_back_texture");
-      if (!r.ok()) return r.status();
-      slots.push_back({"depth_back", *r, depth_is_height ? TexUse::kHeight : TexUse::kDepth});
-    }
-    if (e.contains("normal_back_texture")) {
-      Result<TexRef> r = tex_ref_from_json(e["normal_back_texture"], ep + "/normal_back_texture");
-      if (!r.ok()) return r.status();
-      slots.push_back({"normal_back", *r, TexUse::kLinear});
-    }
-    if (e.contains("cone_texture")) {
-      Result<TexRef> r = tex_ref_from_json(e["cone_texture"], ep + "/cone_texture");
-      if (!r.ok()) return r.status();
-      // The slot is cone_<kind>: cone_kind, else the kind the technique reads.
-      std::string kind;
-      if (e.contains("cone_kind")) {
-        const json& k = e["cone_kind"];
-        if (!k.is_string() || (k != "conservative" && k != "quad" && k != "relaxed"))
-          return fail(ep + "/cone_kind", "expected conservative, quad or relaxed, got " + k.dump());
-        kind = k.get<std::string>();
-      } else if (const PluginDescriptor* p = PluginRegistry::global().find(mat.technique)) {
-        for (int i = 0; i < p->num_textures && kind.empty(); ++i)
-          if (std::string(p->textures[i].name).rfind("cone_", 0) == 0)
-            kind = p->textures[i].name + 5;
-      }
-      if (kind.empty())
-        return fail(ep + "/cone_texture",
-                    "technique " + mat.technique + " reads no cone map: give cone_kind");
-      slots.push_back({"cone_" + kind, *r, TexUse::kCone});
-    }
-    // Plugin parameters: the three common ones at the top level, any other in "params".
-    int steps = 0, binary_steps = 0;
-    double depth_scale = 0.0;
-    if (e.contains("steps")) {
-      RELIEF_RETURN_IF_ERROR(get_int(e, "steps", ep, steps, 1, 1 << 20));
-      mat.params["steps"] = static_cast<float>(steps);
-      param_pointer["steps"] = ep + "/steps";
-    }
-    if (e.contains("binary_steps")) {
-      RELIEF_RETURN_IF_ERROR(get_int(e, "binary_steps", ep, binary_steps, 0, 1 << 20));
-      mat.params["binary_steps"] = static_cast<float>(binary_steps);
-      param_pointer["binary_steps"] = ep + "/binary_steps";
-    }
-    if (e.contains("depth_scale")) {
-      RELIEF_RETURN_IF_ERROR(get_number(e, "depth_scale", ep, depth_scale, 0.0, 1e6));
-      mat.params["depth_scale"] = static_cast<float>(depth_scale);
-      param_pointer["depth_scale"] = ep + "/depth_scale";
-    }
-    if (e.contains("params")) {
-      const json& ps = e["params"];
-      const std::string pp = ep + "/params";
-      if (!ps.is_object()) return fail(pp, "expected an object of parameter values");
-      for (auto it = ps.begin(); it != ps.end(); ++it) {
-        const std::string p = pp + "/" + pointer_token(it.key());
-        if (param_pointer.count(it.key()))
-          return fail(p, "given twice (also at " + param_pointer[it.key()] + ")");
-        // Typed as the declaring technique's schema says, by the rules --param applies.
-        ParamValue pv;
-        if (it->is_boolean()) {
-          pv.kind = ParamValue::Kind::kBool;
-          pv.boolean = it->get<bool>();
-        } else if (it->is_number()) {
-          pv.number = it->get<double>();
-        } else if (it->is_string()) {
-          pv.kind = ParamValue::Kind::kText;
-          pv.text = it->get<std::string>();
-        } else {
-          const char* got = it->is_array() ? "an array" : it->is_object() ? "an object" : "null";
-          return fail(p, std::string("expected a number, a boolean or a choice name, got ") + got);
-        }
-        const PluginDescriptor* by = declaring_plugin(mat.technique, it.key());
-        if (!by) return fail(p, "no technique has a parameter '" + it.key() + "'");
-        Result<float> v = resolve_param_value(*by, it.key(), pv);
-        if (!v.ok()) return fail(p, v.status().message());
-        mat.params[it.key()] = *v;
-        param_pointer[it.key()] = p;
-      }
-    }
-    RELIEF_RETURN_IF_ERROR(check_params(mat, param_pointer));
+  int steps = 0, binary_steps = 0;
+  double depth_scale = 0.0;
+  if (e.contains("steps")) {
+    RELIEF_RETURN_IF_ERROR(get_int(e, "steps", ep, steps, 1, 1 << 20));
+    mat.params["steps"] = static_cast<float>(steps);
+    param_pointer["steps"] = ep + "/steps";
   }
+  if (e.contains("binary_steps")) {
+    RELIEF_RETURN_IF_ERROR(get_int(e, "binary_steps", ep, binary_steps, 0, 1 << 20));
+    mat.params["binary_steps"] = static_cast<float>(binary_steps);
+    param_pointer["binary_steps"] = ep + "/binary_steps";
+  }
+  if (e.contains("depth_scale")) {
+    RELIEF_RETURN_IF_ERROR(get_number(e, "depth_scale", ep, depth_scale, 0.0, 1e6));
+    mat.params["depth_scale"] = static_cast<float>(depth_scale);
+    param_pointer["depth_scale"] = ep + "/depth_scale";
+  }
+  if (e.contains("params")) {
+    const json& ps = e["params"];
+    const std::string pp = ep + "/params";
+    if (!ps.is_object()) return fail(pp, "expected an object of parameter values");
+    for (auto it = ps.begin(); it != ps.end(); ++it) {
+      const std::string p = pp + "/" + pointer_token(it.key());
+      if (param_pointer.count(it.key()))
+        return fail(p, "given twice (also at " + param_pointer[it.key()] + ")");
+      // Typed as the declaring technique's schema says, by the rules --param applies.
+      ParamValue pv;
+      if (it->is_boolean()) {
+        pv.kind = ParamValue::Kind::kBool;
+        pv.boolean = it->get<bool>();
+      } else if (it->is_number()) {
+        pv.number = it->get<double>();
+      } else if (it->is_string()) {
+        pv.kind = ParamValue::Kind::kText;
+        pv.text = it->get<std::string>();
+      } else {
+        const char* got = it->is_array() ? "an array" : it->is_object() ? "an object" : "null";
+        return fail(p, std::string("expected a number, a boolean or a choice name, got ") + got);
+      }
+      const PluginDescriptor* by = declaring_plugin(mat.technique, it.key());
+      if (!by) return fail(p, "no technique has a parameter '" + it.key() + "'");
+      Result<float> v = resolve_param_value(*by, it.key(), pv);
+      if (!v.ok()) return fail(p, v.status().message());
+      mat.params[it.key()] = *v;
+      param_pointer[it.key()] = p;
+    }
+  }
+  return check_params(mat, param_pointer);
+}
 
-  // Textures: one sampler per material; a texture transform per texture. The uv varying is
-  // the main texture's transformed TEXCOORD_0 (the depth map's, else the base colour's, else
-  // the first's); every other texture maps from it (relative_uv_map).
+// Textures: one sampler per material; a texture transform per texture. The uv varying is
+// the main texture's transformed TEXCOORD_0 (the depth map's, else the base colour's, else
+// the first's); every other texture maps from it (relative_uv_map).
+Status Reader::load_material_textures(const std::vector<TextureSlot>& slots, MaterialInfo& info) {
+  Material& mat = info.material;
   std::vector<UvTransform> transforms;
-  for (const Slot& s : slots) {
+  for (const TextureSlot& s : slots) {
     if (s.ref.index < 0 || s.ref.index >= static_cast<int>(m_.textures.size()))
       return fail(s.ref.pointer + "/index",
                   "texture " + std::to_string(s.ref.index) + " does not exist");
@@ -300,7 +351,7 @@ Result<Reader::MaterialInfo> Reader::read_material(int index) {
   if (main_slot >= 0) info.uv = transforms[main_slot];
   const TexRef* first = nullptr;
   for (size_t i = 0; i < slots.size(); ++i) {
-    const Slot& s = slots[i];
+    const TextureSlot& s = slots[i];
     const UvTransform* t = &transforms[i];
     // The relief searches trace in the uv varying's space: the depth and cone maps must be in it.
     if ((s.name == "depth" || s.use == TexUse::kCone) && (t->tex_coord != 0 || !(*t == info.uv)))
@@ -343,22 +394,11 @@ Result<Reader::MaterialInfo> Reader::read_material(int index) {
     else
       mat.textures[s.name] = *tex;
   }
-  if (max_aniso > 1) {
-    mat.sampler.filter = Filter::kAnisotropic;
-    mat.sampler.max_aniso = max_aniso;
-  }
-  if (info.uv.rotation != 0.0) {
-    info.bake_uv = true;  // applied to the uvs of every primitive that uses the material
-  } else {
-    mat.uv_scale = glm::vec2(info.uv.scale);
-    mat.uv_offset = glm::vec2(info.uv.offset);
-  }
-  // The normal map a relief material needs, derived from its depth map when none is given.
-  if (mat.textures.count("depth") && !mat.textures.count("normal") && normal_from_depth) {
-    mat.textures["normal"] =
-        std::make_shared<Texture>(derived_normal_map(mat, *mat.textures["depth"]));
-  }
-  // Texture slots the technique requires.
+  return {};
+}
+
+// Texture slots the technique requires; an error at `pointer` names the first one missing.
+Status Reader::check_required_textures(const Material& mat, const std::string& pointer) const {
   const PluginDescriptor* plugin = PluginRegistry::global().find(mat.technique);
   for (int s = 0; plugin && s < plugin->num_textures; ++s) {
     const TextureSlotSpec& slot = plugin->textures[s];
@@ -369,10 +409,10 @@ Result<Reader::MaterialInfo> Reader::read_material(int index) {
     const std::string where = name == "base_color" ? "pbrMetallicRoughness/baseColorTexture"
                               : name == "normal"   ? "normalTexture"
                                                    : name + "_texture";
-    return fail(ext->is_null() ? mp : ep,
+    return fail(pointer,
                 "technique " + mat.technique + " needs a '" + name + "' texture (" + where + ")");
   }
-  return info;
+  return {};
 }
 
 // Each parameter is checked by the material's technique when it declares it, otherwise by a
