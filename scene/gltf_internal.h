@@ -186,6 +186,9 @@ class Reader {
   bool uses_extension(const char* name) const;
   Status read_indices(int index, const std::string& where, std::vector<uint32_t>& out) const;
   Result<int> primitive_mesh(int mesh, int prim, int material_index, int deform_node = -1);
+  Status read_vertices(const tinygltf::Primitive& p, const std::string& ap, int material_index,
+                       Mesh& out) const;
+  Status read_triangles(const tinygltf::Primitive& p, const std::string& pp, Mesh& out) const;
   Status read_deformation(const tinygltf::Primitive& p, const std::string& pp, Deformer& d) const;
   Status read_floats(int index, const std::string& where, int type, std::vector<int> ctypes,
                      std::vector<float>& out) const;
@@ -200,6 +203,7 @@ class Reader {
 
   // ---- animations, skins, morph weights (gltf_read_animation.cpp) ----
   Status read_animation();
+  Status read_skins(SceneAnimation& anim) const;
   Status node_weights(int i, std::vector<float>& out) const;
   Result<AnimationClip> read_clip(int index, const SceneAnimation& anim) const;
 

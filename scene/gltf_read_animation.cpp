@@ -36,6 +36,21 @@ Status Reader::read_animation() {
     RELIEF_RETURN_IF_ERROR(node_weights(static_cast<int>(i), an.weights));
     anim->nodes.push_back(std::move(an));
   }
+  RELIEF_RETURN_IF_ERROR(read_skins(*anim));
+  for (size_t a = 0; a < m_.animations.size(); ++a) {
+    Result<AnimationClip> clip = read_clip(static_cast<int>(a), *anim);
+    if (!clip.ok()) return clip.status();
+    anim->clips.push_back(std::move(*clip));
+  }
+  anim->deformers = deformers_;
+  pose_scene(*anim, PoseOptions{}, 0.0, scene_);
+  scene_.animation = std::move(anim);
+  return {};
+}
+
+// The skins: their joints (nodes) and inverse bind matrices (identity where the file gives
+// none).
+Status Reader::read_skins(SceneAnimation& anim) const {
   for (size_t s = 0; s < m_.skins.size(); ++s) {
     const tinygltf::Skin& gs = m_.skins[s];
     const std::string sp = "/skins/" + std::to_string(s);
@@ -59,16 +74,8 @@ Status Reader::read_animation() {
       for (size_t j = 0; j < skin.joints.size(); ++j)
         skin.inverse_bind[j] = glm::dmat4(glm::make_mat4(&m[16 * j]));
     }
-    anim->skins.push_back(std::move(skin));
+    anim.skins.push_back(std::move(skin));
   }
-  for (size_t a = 0; a < m_.animations.size(); ++a) {
-    Result<AnimationClip> clip = read_clip(static_cast<int>(a), *anim);
-    if (!clip.ok()) return clip.status();
-    anim->clips.push_back(std::move(*clip));
-  }
-  anim->deformers = deformers_;
-  pose_scene(*anim, PoseOptions{}, 0.0, scene_);
-  scene_.animation = std::move(anim);
   return {};
 }
 

@@ -215,6 +215,39 @@ Result<int> Reader::primitive_mesh(int mesh, int prim, int material_index, int d
   out.name = m_.meshes[mesh].name.empty() ? "mesh" + std::to_string(mesh) : m_.meshes[mesh].name;
   if (m_.meshes[mesh].primitives.size() > 1) out.name += "/" + std::to_string(prim);
   const std::string ap = pp + "/attributes";
+  RELIEF_RETURN_IF_ERROR(read_vertices(p, ap, material_index, out));
+  const size_t n = out.positions.size();
+  RELIEF_RETURN_IF_ERROR(read_triangles(p, pp, out));
+  if (material_index >= 0 && materials_[material_index].bake_uv) {
+    for (glm::vec2& uv : out.uvs) uv = materials_[material_index].uv.apply(uv);
+    out.tangents.clear();  // the frame follows the rotated uv
+  }
+  prepare_mesh(out);
+  if (deform_node >= 0 && out.positions.size() != n)
+    return fail(pp + "/attributes",
+                "a skinned or morphed mesh whose uv mirrors (tangent handedness split by "
+                "mesh preparation) needs a TANGENT attribute");
+  scene_.meshes.push_back(out);
+  const int id = static_cast<int>(scene_.meshes.size()) - 1;
+  if (deform_node < 0) {
+    meshes_[key] = id;
+    return id;
+  }
+  Deformer d;
+  d.mesh = id;
+  d.node = deform_node;
+  d.skin = m_.nodes[deform_node].skin;
+  d.rest = std::move(out);
+  RELIEF_RETURN_IF_ERROR(read_deformation(p, pp, d));
+  deformers_.push_back(std::move(d));
+  return id;
+}
+
+// The vertex attributes of primitive `p` (`ap`: its attributes' pointer): POSITION, then
+// NORMAL, TEXCOORD_0, TEXCOORD_1 (which the material may need), COLOR_0 and TANGENT, each with
+// as many elements as POSITION.
+Status Reader::read_vertices(const tinygltf::Primitive& p, const std::string& ap,
+                             int material_index, Mesh& out) const {
   auto attr = [&](const char* name) {
     auto it = p.attributes.find(name);
     return it == p.attributes.end() ? -1 : it->second;
@@ -262,6 +295,14 @@ Result<int> Reader::primitive_mesh(int mesh, int prim, int material_index, int d
     // glTF's bitangent w * cross(N, T) points to the image top (-v); ours points along +v
     for (glm::vec4& t : out.tangents) t.w = -t.w;
   }
+  return {};
+}
+
+// The triangles of primitive `p`: its indices, each below the vertex count, else the vertices
+// in order, three by three.
+Status Reader::read_triangles(const tinygltf::Primitive& p, const std::string& pp,
+                              Mesh& out) const {
+  const size_t n = out.positions.size();
   if (p.indices >= 0) {
     RELIEF_RETURN_IF_ERROR(read_indices(p.indices, pp + "/indices", out.indices));
     if (out.indices.size() % 3)
@@ -273,34 +314,12 @@ Result<int> Reader::primitive_mesh(int mesh, int prim, int material_index, int d
                                          std::to_string(n) + " vertices)");
   } else {
     if (n % 3)
-      return fail(ap + "/POSITION",
+      return fail(pp + "/attributes/POSITION",
                   std::to_string(n) + " vertices without indices do not make whole triangles");
     out.indices.resize(n);
     for (size_t i = 0; i < n; ++i) out.indices[i] = static_cast<uint32_t>(i);
   }
-  if (material_index >= 0 && materials_[material_index].bake_uv) {
-    for (glm::vec2& uv : out.uvs) uv = materials_[material_index].uv.apply(uv);
-    out.tangents.clear();  // the frame follows the rotated uv
-  }
-  prepare_mesh(out);
-  if (deform_node >= 0 && out.positions.size() != n)
-    return fail(pp + "/attributes",
-                "a skinned or morphed mesh whose uv mirrors (tangent handedness split by "
-                "mesh preparation) needs a TANGENT attribute");
-  scene_.meshes.push_back(out);
-  const int id = static_cast<int>(scene_.meshes.size()) - 1;
-  if (deform_node < 0) {
-    meshes_[key] = id;
-    return id;
-  }
-  Deformer d;
-  d.mesh = id;
-  d.node = deform_node;
-  d.skin = m_.nodes[deform_node].skin;
-  d.rest = std::move(out);
-  RELIEF_RETURN_IF_ERROR(read_deformation(p, pp, d));
-  deformers_.push_back(std::move(d));
-  return id;
+  return {};
 }
 
 // Morph targets and skin attributes of a deformed primitive (glTF 3.7.2.2, 3.7.3).
