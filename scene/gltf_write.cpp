@@ -570,6 +570,35 @@ class Writer {
     }
     for (size_t i = 0; i < a.nodes.size(); ++i)
       if (a.nodes[i].parent >= 0) nodes_[a.nodes[i].parent]["children"].push_back(i);
+    write_node_meshes(a);
+    for (size_t i = 0; i < s_.instances.size(); ++i) {
+      if (bound_node(a.instances, static_cast<int>(i)) >= 0) continue;
+      const Instance& inst = s_.instances[i];
+      const Mesh& mesh = s_.meshes[inst.mesh];
+      ojson prim = primitive_json(mesh, inst.material);
+      doc_["meshes"].push_back({{"name", mesh.name}, {"primitives", ojson::array({prim})}});
+      ojson node = {{"mesh", doc_["meshes"].size() - 1}};
+      if (inst.transform != glm::mat4(1.0f))
+        node["matrix"] = vec_json(glm::value_ptr(inst.transform), 16);
+      nodes_.push_back(node);
+    }
+    for (const Skin& sk : a.skins) {
+      ojson js = ojson::array();
+      for (int j : sk.joints) js.push_back(j);
+      std::vector<float> ibm;
+      for (const glm::dmat4& m : sk.inverse_bind)
+        for (int k = 0; k < 16; ++k) ibm.push_back(static_cast<float>(glm::value_ptr(m)[k]));
+      doc_["skins"].push_back(
+          {{"joints", js},
+           {"inverseBindMatrices", add_floats(ibm.data(), sk.joints.size(), "MAT4", 16, false)}});
+    }
+    write_animations(a);
+  }
+
+  // The meshes on the nodes instances follow: a node's instances are one
+  // mesh's primitives; a deformed one is written from its rest mesh with JOINTS_0 / WEIGHTS_0
+  // and its morph targets.
+  void write_node_meshes(const SceneAnimation& a) {
     // Instances by node, in instance order.
     std::map<int, std::vector<int>> on_node;
     for (size_t i = 0; i < s_.instances.size(); ++i) {
@@ -635,27 +664,10 @@ class Writer {
       nodes_[node]["mesh"] = doc_["meshes"].size() - 1;
       if (skin >= 0) nodes_[node]["skin"] = skin;
     }
-    for (size_t i = 0; i < s_.instances.size(); ++i) {
-      if (bound_node(a.instances, static_cast<int>(i)) >= 0) continue;
-      const Instance& inst = s_.instances[i];
-      const Mesh& mesh = s_.meshes[inst.mesh];
-      ojson prim = primitive_json(mesh, inst.material);
-      doc_["meshes"].push_back({{"name", mesh.name}, {"primitives", ojson::array({prim})}});
-      ojson node = {{"mesh", doc_["meshes"].size() - 1}};
-      if (inst.transform != glm::mat4(1.0f))
-        node["matrix"] = vec_json(glm::value_ptr(inst.transform), 16);
-      nodes_.push_back(node);
-    }
-    for (const Skin& sk : a.skins) {
-      ojson js = ojson::array();
-      for (int j : sk.joints) js.push_back(j);
-      std::vector<float> ibm;
-      for (const glm::dmat4& m : sk.inverse_bind)
-        for (int k = 0; k < 16; ++k) ibm.push_back(static_cast<float>(glm::value_ptr(m)[k]));
-      doc_["skins"].push_back(
-          {{"joints", js},
-           {"inverseBindMatrices", add_floats(ibm.data(), sk.joints.size(), "MAT4", 16, false)}});
-    }
+  }
+
+  // The animation clips: each sampler's key times and values as accessors, each channel's target.
+  void write_animations(const SceneAnimation& a) {
     for (const AnimationClip& clip : a.clips) {
       ojson samplers = ojson::array(), channels = ojson::array();
       std::map<int, AnimPath> path_of;  // sampler -> the path its channels animate
