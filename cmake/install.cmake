@@ -19,10 +19,11 @@ endforeach()
 install(TARGETS ${RELIEF_EXPORTED_LIBS} EXPORT reliefTargets
         ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR} COMPONENT dev)
 install(TARGETS relief RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR} COMPONENT bin)
-# Headers keep their folder so `#include "render/render.h"` reads the same inside and outside.
+# Headers keep their folder so `#include "render/render.h"` reads the same inside and outside;
+# a folder's *_internal.h headers are its own (scene/gltf_internal.h) and stay out.
 foreach(dir base rasterizer shaders_cpp plugins bake scene render gl)
   install(DIRECTORY ${CMAKE_SOURCE_DIR}/${dir}/ DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/relief/${dir}
-          COMPONENT dev FILES_MATCHING PATTERN "*.h")
+          COMPONENT dev FILES_MATCHING PATTERN "*.h" PATTERN "*_internal.h" EXCLUDE)
 endforeach()
 
 install(EXPORT reliefTargets NAMESPACE relief:: DESTINATION ${CMAKE_INSTALL_LIBDIR}/cmake/relief

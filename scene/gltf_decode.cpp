@@ -260,12 +260,21 @@ class Decoder {
           "the Draco stream does not decode (" +
               (decoded.ok() ? std::string("no mesh") : decoded.status().error_msg_string()) + ")");
     const draco::Mesh& mesh = *decoded.value();
-    const uint64_t points = mesh.num_points(), faces = mesh.num_faces();
+    const uint64_t faces = mesh.num_faces();
     if (3 * faces != ia.count)
       return fail(pp + "/indices", "accessor " + std::to_string(prim.indices) + " has " +
                                        std::to_string(ia.count) + " indices, the Draco stream " +
                                        std::to_string(3 * faces));
-    for (auto it = attrs->begin(); it != attrs->end(); ++it) {
+    RELIEF_RETURN_IF_ERROR(draco_attributes(prim, *attrs, p, pp, view, mesh));
+    return draco_indices(prim, pp, view, mesh);
+  }
+
+  // The stream's attributes that `attrs` (the extension's attribute ids) names, each into its
+  // accessor: checked against it, converted to its component type, in a new buffer view.
+  Status draco_attributes(const tinygltf::Primitive& prim, const json& attrs, const std::string& p,
+                          const std::string& pp, uint64_t view, const draco::Mesh& mesh) {
+    const uint64_t points = mesh.num_points();
+    for (auto it = attrs.begin(); it != attrs.end(); ++it) {
       const std::string ap = p + "/attributes/" + pointer_token(it.key());
       if (!it->is_number_integer() || it->get<int64_t>() < 0)
         return fail(ap, "expected an attribute id, got " + one_line_text(it->dump(), 40));
@@ -329,6 +338,13 @@ class Decoder {
       acc_out.sparse.isSparse = false;
       decoded_[acc->second] = key;
     }
+    return {};
+  }
+
+  // The stream's triangles as the primitive's UNSIGNED_INT indices, in a new buffer view.
+  Status draco_indices(const tinygltf::Primitive& prim, const std::string& pp, uint64_t view,
+                       const draco::Mesh& mesh) {
+    const uint64_t faces = mesh.num_faces();
     if (auto d = decoded_.find(prim.indices); d != decoded_.end()) {
       if (d->second == std::make_pair(static_cast<int>(view), int64_t{-1})) return {};
       return fail(pp + "/indices", "accessor is shared by Draco primitives with different data");

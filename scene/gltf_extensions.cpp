@@ -176,9 +176,11 @@ const char* extension_status_text(ExtensionStatus s) {
   return "?";
 }
 
-std::vector<GltfIgnored> find_ignored_features(const json& doc) {
-  std::vector<GltfIgnored> out;
-  if (!doc.is_object()) return out;
+namespace {
+
+// Extensions relief does not support, used (found by the scan) or listed in extensionsUsed: one
+// finding each, naming its materials, and one per other material for --explain.
+void unsupported_extensions(const json& doc, std::vector<GltfIgnored>& out) {
   Scan scan;
   scan.walk(doc, "", 0);
   if (auto used = doc.find("extensionsUsed"); used != doc.end() && used->is_array())
@@ -211,16 +213,16 @@ std::vector<GltfIgnored> find_ignored_features(const json& doc) {
       out.push_back(std::move(also));
     }
   }
+}
 
+// Core material properties relief does not shade with (Blinn-Phong, not metallic-roughness).
+// `sampler_users` gets the materials each sampler's textures serve.
+void ignored_material_properties(const json& doc, std::map<int, std::set<int>>& sampler_users,
+                                 std::vector<GltfIgnored>& out) {
   const json* materials = nullptr;
   if (auto it = doc.find("materials"); it != doc.end() && it->is_array()) materials = &*it;
   const json* textures = nullptr;
   if (auto it = doc.find("textures"); it != doc.end() && it->is_array()) textures = &*it;
-  const json* samplers = nullptr;
-  if (auto it = doc.find("samplers"); it != doc.end() && it->is_array()) samplers = &*it;
-
-  // Core material properties relief does not shade with (Blinn-Phong, not metallic-roughness).
-  std::map<int, std::set<int>> sampler_users;  // sampler -> materials
   for (size_t mi = 0; materials && mi < materials->size(); ++mi) {
     const json& m = (*materials)[mi];
     if (!m.is_object()) continue;
@@ -257,8 +259,13 @@ std::vector<GltfIgnored> find_ignored_features(const json& doc) {
         if (s >= 0) sampler_users[s].insert(static_cast<int>(mi));
       }
   }
+}
 
-  // Sampler settings relief cannot honour: one filter for minification and magnification.
+// Sampler settings relief cannot honour: one filter for minification and magnification.
+void ignored_sampler_settings(const json& doc, const std::map<int, std::set<int>>& sampler_users,
+                              std::vector<GltfIgnored>& out) {
+  const json* samplers = nullptr;
+  if (auto it = doc.find("samplers"); it != doc.end() && it->is_array()) samplers = &*it;
   for (const auto& [si, users] : sampler_users) {
     if (!samplers || si >= static_cast<int>(samplers->size()) || !(*samplers)[si].is_object())
       continue;
@@ -284,9 +291,11 @@ std::vector<GltfIgnored> find_ignored_features(const json& doc) {
         out.push_back(std::move(g));
       }
   }
+}
 
-  // Primitive attribute sets relief does not read (custom "_NAME" attributes are the
-  // application's, ignored silently as glTF says).
+// Primitive attribute sets relief does not read (custom "_NAME" attributes are the
+// application's, ignored silently as glTF says).
+void ignored_attribute_sets(const json& doc, std::vector<GltfIgnored>& out) {
   std::map<std::string, std::string> attrs;  // name -> first pointer
   if (auto meshes = doc.find("meshes"); meshes != doc.end() && meshes->is_array())
     for (size_t mi = 0; mi < meshes->size(); ++mi) {
@@ -318,6 +327,18 @@ std::vector<GltfIgnored> find_ignored_features(const json& doc) {
     g.what = "attribute " + name + " ignored (relief reads TEXCOORD_0, TEXCOORD_1 and COLOR_0)";
     out.push_back(std::move(g));
   }
+}
+
+}  // namespace
+
+std::vector<GltfIgnored> find_ignored_features(const json& doc) {
+  std::vector<GltfIgnored> out;
+  if (!doc.is_object()) return out;
+  unsupported_extensions(doc, out);
+  std::map<int, std::set<int>> sampler_users;  // sampler -> materials
+  ignored_material_properties(doc, sampler_users, out);
+  ignored_sampler_settings(doc, sampler_users, out);
+  ignored_attribute_sets(doc, out);
   return out;
 }
 

@@ -11,11 +11,11 @@
 // derivatives joins the first group that reaches it; a degenerate triangle's corner copies the
 // first good corner at its vertex. Run on the mesh's own uv (no flip): w = +1 where the uv
 // mapping keeps orientation, so B = w cross(N, T) runs along +v (shaders_cpp/frame.h). glTF's
-// TANGENT has the opposite w (scene/gltf.cpp negates it on load and save). Corners of one vertex
-// that get different spaces (a mirrored uv seam, a fan broken by a non-manifold edge) are split:
-// the vertex keeps the first space met in index order, copies (every per-vertex array, appended)
-// take the others; triangle order and count are kept. Where MikkTSpace gives a corner no space
-// (no group reaches it: no usable uv anywhere around it) the tangent is any unit vector
+// TANGENT has the opposite w (scene/gltf_read_meshes.cpp and gltf_write.cpp negate it). Corners of
+// one vertex that get different spaces (a mirrored uv seam, a fan broken by a non-manifold edge)
+// are split: the vertex keeps the first space met in index order, copies (every per-vertex array,
+// appended) take the others; triangle order and count are kept. Where MikkTSpace gives a corner no
+// space (no group reaches it: no usable uv anywhere around it) the tangent is any unit vector
 // perpendicular to the normal, w = +1 (the reference leaves (1, 0, 0), -1 there).
 // Tile scale (quadric paper, section 3.4): per vertex (sx, sy) = the lengths of dP/du and dP/dv
 // in object units, area-weighted over the adjacent triangles; 1 where uv is degenerate.
