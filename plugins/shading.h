@@ -176,24 +176,33 @@ inline ShadeOut<F> resolve_alpha(const MaterialUniforms& m, ShadeOut<F> o) {
 // or one lane at a time with float when FrameUniforms::scalar_lanes is set (the reference path);
 // same bits either way. It is compiled for the SIMD target of the enclosing namespace, kernel
 // and all; RELIEF_SELECT_FOR_EVERY_TARGET hands out the right target's copy per draw.
+namespace detail {
+// The lane loop. `flatten` inlines the kernel, its search and its lighting into it (the samplers
+// stay out of line, in sampling_simd.cpp): a matter of speed only, since caller and callees are
+// all this target's code; without it GCC left small lane functions out of line, 13% more
+// instructions a fragment (docs/performance.md, "Per-target compilation").
+template <class Kernel>
+[[gnu::flatten]] void shade_lanes(const ShadeContext& ctx, const FragmentPacket& in,
+                                  FragmentOutput& out, WorkCounters& wc) {
+  static_assert(kPacketLanes % kLanes == 0);
+  const int lanes = in.num_quads * kQuadLanes;
+  for (int l = 0; l < lanes; l += kLanes) {
+    const FragIn<FN> f = load_fragment<FN>(in, l);
+    store_out(resolve_alpha(*ctx.material, Kernel::template shade<FN>(ctx, f)), in, l, out, wc);
+  }
+}
+}  // namespace detail
+
 template <class Kernel>
 void shade_packet(const ShadeContext& ctx, const FragmentPacket& in, FragmentOutput& out,
                   WorkCounters& wc) {
+  if (!ctx.frame->scalar_lanes) return detail::shade_lanes<Kernel>(ctx, in, out, wc);
   const int lanes = in.num_quads * kQuadLanes;
-  if (ctx.frame->scalar_lanes) {
-    for (int l = 0; l < lanes; ++l) {
-      if (!in.coverage[l >> 2]) continue;
-      const FragIn<float> f = detail::load_fragment<float>(in, l);
-      detail::store_out(detail::resolve_alpha(*ctx.material, Kernel::template shade<float>(ctx, f)),
-                        in, l, out, wc);
-    }
-    return;
-  }
-  static_assert(kPacketLanes % kLanes == 0);
-  for (int l = 0; l < lanes; l += kLanes) {
-    const FragIn<FN> f = detail::load_fragment<FN>(in, l);
-    detail::store_out(detail::resolve_alpha(*ctx.material, Kernel::template shade<FN>(ctx, f)), in,
-                      l, out, wc);
+  for (int l = 0; l < lanes; ++l) {
+    if (!in.coverage[l >> 2]) continue;
+    const FragIn<float> f = detail::load_fragment<float>(in, l);
+    detail::store_out(detail::resolve_alpha(*ctx.material, Kernel::template shade<float>(ctx, f)),
+                      in, l, out, wc);
   }
 }
 

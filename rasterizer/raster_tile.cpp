@@ -212,8 +212,9 @@ void raster_triangle(const TileGrid& g, Worker& w, Framebuffer& fb, const DrawCa
 
 }  // namespace
 
-void raster_tile(const TileGrid& g, Worker& w, Framebuffer& fb, std::span<const DrawCall> draws,
-                 int tile) {
+// flatten: the traversal inlined into one function (speed only; see plugins/shading.h).
+[[gnu::flatten]] void raster_tile(const TileGrid& g, Worker& w, Framebuffer& fb,
+                                  std::span<const DrawCall> draws, int tile) {
   int x0, y0, x1, y1;
   tile_rect(g, fb, tile, x0, y0, x1, y1);
   for (uint32_t ti : g.bins[tile]) {
