@@ -7,7 +7,7 @@
 #include <vector>
 
 #include "rasterizer/image.h"
-#include "rasterizer/status.h"
+#include "base/status.h"
 
 namespace relief::cli {
 

@@ -5,7 +5,7 @@
 #include <string>
 
 #include "rasterizer/image.h"
-#include "rasterizer/status.h"
+#include "base/status.h"
 
 namespace relief::cli {
 

@@ -10,8 +10,8 @@
 #include <cstring>
 #include <limits>
 
-#include "rasterizer/check.h"
-#include "rasterizer/thread_pool.h"
+#include "base/check.h"
+#include "base/thread_pool.h"
 
 namespace relief {
 

@@ -5,7 +5,7 @@
 #include <cmath>
 #include <vector>
 
-#include "rasterizer/check.h"
+#include "base/check.h"
 
 namespace relief {
 namespace {

@@ -21,7 +21,7 @@
 
 #include <memory>
 
-#include "rasterizer/status.h"
+#include "base/status.h"
 #include "render/render.h"
 
 namespace relief {

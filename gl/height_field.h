@@ -12,7 +12,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "rasterizer/status.h"
+#include "base/status.h"
 #include "rasterizer/texture.h"
 
 namespace relief::gl {

@@ -6,7 +6,7 @@
 #include <vector>
 
 #include "plugins/plugin.h"
-#include "rasterizer/status.h"
+#include "base/status.h"
 
 namespace relief {
 

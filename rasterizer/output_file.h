@@ -14,7 +14,7 @@
 #include <utility>
 #include <vector>
 
-#include "rasterizer/status.h"
+#include "base/status.h"
 
 namespace relief {
 

@@ -5,7 +5,7 @@
 #include <cmath>
 #include <cstring>
 
-#include "rasterizer/check.h"
+#include "base/check.h"
 #include "base/simd.h"
 #include "rasterizer/raster_tile.h"
 

@@ -23,7 +23,7 @@
 
 #include "rasterizer/fragment.h"
 #include "rasterizer/image.h"
-#include "rasterizer/thread_pool.h"
+#include "base/thread_pool.h"
 
 namespace relief {
 

@@ -8,7 +8,7 @@
 #include <cstring>
 #include <iterator>
 
-#include "rasterizer/check.h"
+#include "base/check.h"
 
 namespace relief {
 

@@ -6,7 +6,7 @@
 
 #include <glm/vec3.hpp>
 
-#include "rasterizer/check.h"
+#include "base/check.h"
 
 namespace relief {
 namespace {

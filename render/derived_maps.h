@@ -24,7 +24,7 @@
 #include <functional>
 #include <string>
 
-#include "rasterizer/status.h"
+#include "base/status.h"
 #include "rasterizer/texture.h"
 #include "scene/scene.h"
 

@@ -16,7 +16,7 @@
 #include "plugins/plugin.h"
 #include "rasterizer/image.h"
 #include "rasterizer/pipeline.h"
-#include "rasterizer/status.h"
+#include "base/status.h"
 #include "render/shadow_map.h"
 #include "scene/scene.h"
 

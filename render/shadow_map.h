@@ -20,7 +20,7 @@
 
 #include "plugins/plugin.h"
 #include "rasterizer/image.h"
-#include "rasterizer/status.h"
+#include "base/status.h"
 #include "scene/scene.h"
 #include "shaders_cpp/shadow_map.h"
 

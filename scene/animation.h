@@ -22,7 +22,7 @@
 #include <glm/mat4x4.hpp>
 #include <glm/vec3.hpp>
 
-#include "rasterizer/status.h"
+#include "base/status.h"
 #include "scene/scene.h"
 
 namespace relief {

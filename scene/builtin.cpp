@@ -8,7 +8,7 @@
 #include <glm/geometric.hpp>
 
 #include "bake/normal_map.h"
-#include "rasterizer/check.h"
+#include "base/check.h"
 #include "scene/builtin_bending.h"
 #include "scene/builtin_curved.h"
 #include "scene/builtin_impostor.h"

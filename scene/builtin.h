@@ -4,7 +4,7 @@
 #include <string>
 #include <vector>
 
-#include "rasterizer/status.h"
+#include "base/status.h"
 #include "scene/scene.h"
 
 namespace relief {

@@ -8,7 +8,7 @@
 #include <glm/geometric.hpp>
 #include <glm/trigonometric.hpp>
 
-#include "rasterizer/check.h"
+#include "base/check.h"
 #include "scene/animation.h"
 #include "scene/builtin.h"
 #include "scene/builtin_parts.h"

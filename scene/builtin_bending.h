@@ -3,7 +3,7 @@
 // attached to an animated, deforming surface when its tangent frames deform with it.
 #pragma once
 
-#include "rasterizer/status.h"
+#include "base/status.h"
 #include "scene/scene.h"
 
 namespace relief {

@@ -5,7 +5,7 @@
 
 #include <functional>
 
-#include "rasterizer/status.h"
+#include "base/status.h"
 #include "scene/scene.h"
 
 namespace relief {

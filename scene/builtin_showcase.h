@@ -1,7 +1,7 @@
 // The built-in `interpenetration` and `teatime` scenes (scene/builtin_showcase.cpp).
 #pragma once
 
-#include "rasterizer/status.h"
+#include "base/status.h"
 #include "scene/scene.h"
 
 namespace relief {

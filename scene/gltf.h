@@ -19,7 +19,7 @@
 #include <string>
 #include <vector>
 
-#include "rasterizer/status.h"
+#include "base/status.h"
 #include "scene/gltf_extensions.h"
 #include "scene/scene.h"
 

@@ -10,7 +10,7 @@
 #include <string_view>
 #include <vector>
 
-#include "rasterizer/status.h"
+#include "base/status.h"
 
 namespace tinygltf {
 class Model;

@@ -23,7 +23,7 @@
 
 #include "plugins/plugin.h"
 #include "rasterizer/safe_file.h"
-#include "rasterizer/status.h"
+#include "base/status.h"
 #include "scene/animation.h"
 #include "scene/image_io.h"
 #include "scene/scene.h"

@@ -9,7 +9,7 @@
 
 #include <nlohmann/json_fwd.hpp>
 
-#include "rasterizer/status.h"
+#include "base/status.h"
 
 namespace relief {
 

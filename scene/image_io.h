@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "rasterizer/image.h"
-#include "rasterizer/status.h"
+#include "base/status.h"
 #include "rasterizer/texture.h"
 
 namespace relief {

@@ -8,7 +8,7 @@
 #include <limits>
 #include <utility>
 
-#include "rasterizer/check.h"
+#include "base/check.h"
 
 namespace relief {
 namespace {

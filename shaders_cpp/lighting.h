@@ -14,7 +14,7 @@
 
 #include <cmath>
 
-#include "plugins/plugin.h"
+#include "shaders_cpp/uniforms.h"
 #include "shaders_cpp/vec.h"
 
 #include <hwy/highway.h>

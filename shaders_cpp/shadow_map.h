@@ -18,7 +18,7 @@
 #include <glm/mat3x3.hpp>
 #include <glm/mat4x4.hpp>
 #include <glm/vec3.hpp>
-#include "plugins/plugin.h"
+#include "shaders_cpp/uniforms.h"
 
 namespace relief {
 
@@ -143,7 +143,7 @@ inline float shadow_lookup(const ShadowMapView& m, glm::vec3 p, glm::vec3 n, glm
 #include <glm/mat4x4.hpp>
 #include <glm/vec3.hpp>
 
-#include "plugins/plugin.h"
+#include "shaders_cpp/uniforms.h"
 #include "shaders_cpp/lanes.h"
 #include "shaders_cpp/vec.h"
 

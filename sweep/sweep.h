@@ -42,7 +42,7 @@
 
 #include "plugins/plugin.h"
 #include "rasterizer/image.h"
-#include "rasterizer/status.h"
+#include "base/status.h"
 #include "rasterizer/texture.h"
 #include "scene/scene.h"
 

@@ -8,7 +8,7 @@
 #include <utility>
 #include <variant>
 
-#include "rasterizer/check.h"
+#include "base/check.h"
 
 namespace relief {
 
