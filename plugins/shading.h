@@ -182,7 +182,7 @@ namespace detail {
 // all this target's code; without it GCC left small lane functions out of line, 13% more
 // instructions a fragment (docs/performance.md, "Per-target compilation").
 template <class Kernel>
-[[gnu::flatten]] void shade_lanes(const ShadeContext& ctx, const FragmentPacket& in,
+RELIEF_LANE_FLATTEN void shade_lanes(const ShadeContext& ctx, const FragmentPacket& in,
                                   FragmentOutput& out, WorkCounters& wc) {
   static_assert(kPacketLanes % kLanes == 0);
   const int lanes = in.num_quads * kQuadLanes;

@@ -15,6 +15,8 @@
 
 #include <hwy/highway.h>
 
+#include "base/simd_flatten.h"
+
 HWY_BEFORE_NAMESPACE();
 namespace relief {
 namespace raster_detail {
@@ -213,7 +215,7 @@ void raster_triangle(const TileGrid& g, Worker& w, Framebuffer& fb, const DrawCa
 }  // namespace
 
 // flatten: the traversal inlined into one function (speed only; see plugins/shading.h).
-[[gnu::flatten]] void raster_tile(const TileGrid& g, Worker& w, Framebuffer& fb,
+RELIEF_LANE_FLATTEN void raster_tile(const TileGrid& g, Worker& w, Framebuffer& fb,
                                   std::span<const DrawCall> draws, int tile) {
   int x0, y0, x1, y1;
   tile_rect(g, fb, tile, x0, y0, x1, y1);

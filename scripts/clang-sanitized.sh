@@ -12,7 +12,7 @@ command -v "$CXX" >/dev/null || { echo "$0: $CXX not found (scripts/install-deps
 # fuzzer-no-link the libFuzzer targets can be built in the same folder).
 configure_sanitized() {
   cmake -S . -B "$1" -DCMAKE_CXX_COMPILER="$CXX" -DCMAKE_BUILD_TYPE=RelWithDebInfo \
-    -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g1" -DCMAKE_CXX_FLAGS="-fno-sanitize-recover=all" \
+    -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g1" -DCMAKE_CXX_FLAGS="-fno-sanitize-recover=all -DRELIEF_NO_FLATTEN" \
     -DRELIEF_SANITIZE="$2" -DRELIEF_BUILD_FUZZ="$([[ $2 == *fuzzer* ]] && echo ON || echo OFF)" \
     -DRELIEF_BUILD_BENCH=OFF -DRELIEF_HWY_DISABLED_TARGETS="HWY_SSSE3|HWY_SSE4|HWY_AVX3" >/dev/null
 }

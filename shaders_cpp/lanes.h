@@ -28,6 +28,8 @@
 
 #include <hwy/highway.h>
 
+#include "base/simd_flatten.h"
+
 HWY_BEFORE_NAMESPACE();
 namespace relief {
 namespace HWY_NAMESPACE {

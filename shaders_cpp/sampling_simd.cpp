@@ -17,7 +17,7 @@ namespace {
 // formats' code around it (measured: 9% fewer instructions a read than one entry for all).
 // flatten here and below: the read inlined into one function (speed only; plugins/shading.h).
 template <TexFormat kFmt>
-[[gnu::noinline, gnu::flatten]] FN r_lod_fmt(const Texture& t, const SamplerState& s, const V2<FN>& uv,
+[[gnu::noinline]] RELIEF_LANE_FLATTEN FN r_lod_fmt(const Texture& t, const SamplerState& s, const V2<FN>& uv,
                                const FN& lod) {
   return detail::sample_lod_texels<kFmt, 1, FN>(t, s, uv, lod).x;
 }
@@ -35,7 +35,7 @@ template <TexFormat kFmt, bool kNearest>
     return detail::bilinear_at<kFmt, 1, FN>(*p.texture, p.sampler, uv, at, p.pow2).x;
 }
 template <TexFormat kFmt, int kLevels, bool kNearest>
-[[gnu::flatten]] FN planned(const RLodPlan& p, const V2<FN>& uv) {
+RELIEF_LANE_FLATTEN FN planned(const RLodPlan& p, const V2<FN>& uv) {
   const FN r = planned_level<kFmt, kNearest>(p, uv, 0);
   if constexpr (kLevels == 1) {
     return r;
@@ -117,7 +117,7 @@ void prepare_r_lod(const Texture& t, const SamplerState& s, const float* lod, RL
   }
 }
 
-[[gnu::flatten]] V4<FN> texture_grad_lanes(const Texture& t, const SamplerState& s,
+RELIEF_LANE_FLATTEN V4<FN> texture_grad_lanes(const Texture& t, const SamplerState& s,
                                            const V2<FN>& uv, const V2<FN>& dx, const V2<FN>& dy) {
   return texture_grad(t, s, uv, dx, dy);
 }
