@@ -119,15 +119,26 @@ Scene with_effects(const Scene& authored, int variant) {
   return s;
 }
 
-TEST(GlAgreement, BuiltinScenesMatchCpu) {
+// One built-in scene per test (so that ctest runs them side by side and none nears the timeout),
+// named by the scene.
+class GlAgreementScene : public ::testing::TestWithParam<std::string> {};
+
+std::vector<std::string> builtin_scene_names() {
+  std::vector<std::string> names;
+  for (const BuiltinSceneInfo& info : builtin_scenes()) names.push_back(info.name);
+  return names;
+}
+
+TEST_P(GlAgreementScene, MatchesCpu) {
   RELIEF_REQUIRE_GL();
   Result<std::unique_ptr<Backend>> gl = make_gl_backend(-1);
   ASSERT_TRUE(gl.ok()) << gl.status().message();
   std::unique_ptr<Backend> cpu = make_cpu_backend(0);
   int compared = 0, shadow_passes = 0;
   std::set<EffectMask> variants_seen;
-  for (const BuiltinSceneInfo& info : builtin_scenes()) {
-    Result<Scene> authored = make_builtin_scene(info.name);
+  {
+    const std::string& scene_name = GetParam();
+    Result<Scene> authored = make_builtin_scene(scene_name);
     ASSERT_TRUE(authored.ok()) << authored.status().message();
     // Each twin forced on every material, then (null) the scene's own techniques: scenes that
     // mix techniques, or whose materials cannot all take one (no depth map), run as authored.
@@ -158,7 +169,7 @@ TEST(GlAgreement, BuiltinScenesMatchCpu) {
         const Scene scene_v = with_effects(*authored, variant);
         const Scene* scene = &scene_v;
         const std::string label =
-            info.name + " / " + (plugin ? plugin->name : "(its own techniques)") +
+            scene_name + " / " + (plugin ? plugin->name : "(its own techniques)") +
             (setting.empty() ? std::string() : " " + setting) +
             (variant < 0
                  ? std::string()
@@ -260,15 +271,21 @@ TEST(GlAgreement, BuiltinScenesMatchCpu) {
       }
     }
   }
-  EXPECT_GE(compared, 2);
+  EXPECT_GE(compared, 1);
   // room plans a shadow pass: the comparison ran with shadow maps.
-  EXPECT_GT(shadow_passes, 0);
-  // The relief family ran with and without each effect.
-  EXPECT_TRUE(variants_seen.count(0));
-  EXPECT_TRUE(variants_seen.count(kEffectSelfShadow));
-  EXPECT_TRUE(variants_seen.count(kEffectDepthWrite));
-  EXPECT_TRUE(variants_seen.count(kEffectSelfShadow | kEffectDepthWrite));
+  if (GetParam() == "room") EXPECT_GT(shadow_passes, 0);
+  // The relief family ran with and without each effect (on plane, every twin's effects).
+  if (GetParam() == "plane") {
+    EXPECT_TRUE(variants_seen.count(0));
+    EXPECT_TRUE(variants_seen.count(kEffectSelfShadow));
+    EXPECT_TRUE(variants_seen.count(kEffectDepthWrite));
+    EXPECT_TRUE(variants_seen.count(kEffectSelfShadow | kEffectDepthWrite));
+  }
 }
+
+INSTANTIATE_TEST_SUITE_P(BuiltinScenes, GlAgreementScene,
+                         ::testing::ValuesIn(builtin_scene_names()),
+                         [](const ::testing::TestParamInfo<std::string>& i) { return i.param; });
 
 // The searches' `lod` parameter (plugins/relief_shell.h SearchLod) on both backends: `zero` and
 // `max-mip` (the derived chain, uploaded from the CPU's texels) agree with the CPU as closely as
