@@ -6,8 +6,8 @@
 #include <string>
 #include <vector>
 
-#include "rasterizer/image.h"
 #include "base/status.h"
+#include "rasterizer/image.h"
 
 namespace relief::cli {
 

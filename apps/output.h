@@ -4,8 +4,8 @@
 #include <map>
 #include <string>
 
-#include "rasterizer/image.h"
 #include "base/status.h"
+#include "rasterizer/image.h"
 
 namespace relief::cli {
 

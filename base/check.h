@@ -21,18 +21,18 @@ std::string check_message(const char* expr, const A& a, const B& b) {
 }
 }  // namespace relief::detail
 
-#define RELIEF_CHECK(cond)                                                            \
-  do {                                                                                \
-    if (!(cond)) ::relief::detail::check_failed(__FILE__, __LINE__, #cond);           \
+#define RELIEF_CHECK(cond)                                                  \
+  do {                                                                      \
+    if (!(cond)) ::relief::detail::check_failed(__FILE__, __LINE__, #cond); \
   } while (0)
-#define RELIEF_CHECK_OP(a, op, b)                                                     \
-  do {                                                                                \
-    const auto& relief_a_ = (a);                                                      \
-    const auto& relief_b_ = (b);                                                      \
-    if (!(relief_a_ op relief_b_))                                                    \
-      ::relief::detail::check_failed(                                                 \
-          __FILE__, __LINE__,                                                         \
-          ::relief::detail::check_message(#a " " #op " " #b, relief_a_, relief_b_));  \
+#define RELIEF_CHECK_OP(a, op, b)                                                    \
+  do {                                                                               \
+    const auto& relief_a_ = (a);                                                     \
+    const auto& relief_b_ = (b);                                                     \
+    if (!(relief_a_ op relief_b_))                                                   \
+      ::relief::detail::check_failed(                                                \
+          __FILE__, __LINE__,                                                        \
+          ::relief::detail::check_message(#a " " #op " " #b, relief_a_, relief_b_)); \
   } while (0)
 
 #define CHECK(cond) RELIEF_CHECK(cond)

@@ -63,7 +63,9 @@ const bool g_initialised = [] {
 
 }  // namespace
 
-SimdLevel simd_supported() { return clamp_level(SimdLevel::kAvx512); }
+SimdLevel simd_supported() {
+  return clamp_level(SimdLevel::kAvx512);
+}
 
 std::vector<SimdLevel> simd_levels_supported() {
   std::vector<SimdLevel> out;

@@ -75,10 +75,10 @@ class [[nodiscard]] Result {
   Status status_;
 };
 
-#define RELIEF_RETURN_IF_ERROR(expr)        \
-  do {                                      \
-    ::relief::Status relief_s_ = (expr);    \
-    if (!relief_s_.ok()) return relief_s_;  \
+#define RELIEF_RETURN_IF_ERROR(expr)       \
+  do {                                     \
+    ::relief::Status relief_s_ = (expr);   \
+    if (!relief_s_.ok()) return relief_s_; \
   } while (0)
 
 }  // namespace relief

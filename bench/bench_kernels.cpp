@@ -286,8 +286,8 @@ float sum_reads(const Texture& t, const SamplerState& s, const float* u, const f
   }
   return lane(acc, 0) + lane(acc, kLanes - 1);
 }
-float reads_planned_target(const Texture& t, const SamplerState& s, const float* u,
-                           const float* v, int n) {
+float reads_planned_target(const Texture& t, const SamplerState& s, const float* u, const float* v,
+                           int n) {
   return sum_reads<true>(t, s, u, v, n);
 }
 float reads_unplanned_target(const Texture& t, const SamplerState& s, const float* u,

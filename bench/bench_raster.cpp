@@ -9,8 +9,8 @@
 // Its time is the main pass up to glFinish (PassStats::ms): no upload, no readback, no counters.
 #include <benchmark/benchmark.h>
 
-#include "gl/gl_backend.h"
 #include "base/simd.h"
+#include "gl/gl_backend.h"
 #include "render/render.h"
 #include "scene/builtin.h"
 
@@ -80,8 +80,12 @@ void run_plane_gl(benchmark::State& state, const char* technique) {
   state.SetItemsProcessed(static_cast<int64_t>(fragments));
 }
 
-void BM_Raster_Flat(benchmark::State& state) { run_plane(state, "flat"); }
-void BM_Raster_Normal(benchmark::State& state) { run_plane(state, "normal"); }
+void BM_Raster_Flat(benchmark::State& state) {
+  run_plane(state, "flat");
+}
+void BM_Raster_Normal(benchmark::State& state) {
+  run_plane(state, "normal");
+}
 
 // Arguments: threads, recycle (0: a new framebuffer every frame, as a one-frame render has).
 BENCHMARK(BM_Raster_Flat)
@@ -95,8 +99,12 @@ BENCHMARK(BM_Raster_Normal)
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
 
-void BM_Raster_Flat_GL(benchmark::State& state) { run_plane_gl(state, "flat"); }
-void BM_Raster_Normal_GL(benchmark::State& state) { run_plane_gl(state, "normal"); }
+void BM_Raster_Flat_GL(benchmark::State& state) {
+  run_plane_gl(state, "flat");
+}
+void BM_Raster_Normal_GL(benchmark::State& state) {
+  run_plane_gl(state, "normal");
+}
 BENCHMARK(BM_Raster_Flat_GL)->Unit(benchmark::kMillisecond)->UseManualTime();
 BENCHMARK(BM_Raster_Normal_GL)->Unit(benchmark::kMillisecond)->UseManualTime();
 

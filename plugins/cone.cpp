@@ -30,7 +30,9 @@ using ConeSearch = ConeFamilySearch<TextureCone, kIndex>;
 
 }  // namespace
 
-ShadeFn select_cone(EffectMask e) { return select_relief_variant<ConeSearch>(e); }
+ShadeFn select_cone(EffectMask e) {
+  return select_relief_variant<ConeSearch>(e);
+}
 
 }  // namespace HWY_NAMESPACE
 }  // namespace relief
