@@ -22,7 +22,8 @@ const TechniqueCase kCases[] = {
     {"Relief_32_8", "relief", kSearch},
     {"Quadric_Approximate_32_8", "relief_quadric", with(kSearch, "distance", "approximate")},
     {"Quadric_Accurate_32_8", "relief_quadric", with(kSearch, "distance", "accurate")},
-    {"Quadric_RelaxedCone_15_8", "relief_quadric",
+    {"Quadric_RelaxedCone_15_8",
+     "relief_quadric",
      {{"search", "relaxed_cone"}, {"cone_steps", "15"}, {"binary_steps", "8"}}},
 };
 

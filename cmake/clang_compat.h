@@ -5,11 +5,11 @@
 #pragma once
 #if defined(__clang__) && !defined(__GNUC_SHUFFLE_COMPAT)
 #define __GNUC_SHUFFLE_COMPAT 1
-#define __builtin_shuffle(v, m)                                              \
-  ([](auto a_, auto m_) {                                                    \
-    decltype(a_) r_;                                                         \
-    constexpr int n_ = sizeof(a_) / sizeof(a_[0]);                           \
-    for (int i_ = 0; i_ < n_; ++i_) r_[i_] = a_[m_[i_] & (n_ - 1)];          \
-    return r_;                                                               \
+#define __builtin_shuffle(v, m)                                     \
+  ([](auto a_, auto m_) {                                           \
+    decltype(a_) r_;                                                \
+    constexpr int n_ = sizeof(a_) / sizeof(a_[0]);                  \
+    for (int i_ = 0; i_ < n_; ++i_) r_[i_] = a_[m_[i_] & (n_ - 1)]; \
+    return r_;                                                      \
   }((v), (m)))
 #endif

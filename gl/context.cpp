@@ -23,22 +23,38 @@ namespace {
 
 const char* egl_error_name(EGLint e) {
   switch (e) {
-    case EGL_SUCCESS: return "EGL_SUCCESS";
-    case EGL_NOT_INITIALIZED: return "EGL_NOT_INITIALIZED";
-    case EGL_BAD_ACCESS: return "EGL_BAD_ACCESS";
-    case EGL_BAD_ALLOC: return "EGL_BAD_ALLOC";
-    case EGL_BAD_ATTRIBUTE: return "EGL_BAD_ATTRIBUTE";
-    case EGL_BAD_CONTEXT: return "EGL_BAD_CONTEXT";
-    case EGL_BAD_CONFIG: return "EGL_BAD_CONFIG";
-    case EGL_BAD_CURRENT_SURFACE: return "EGL_BAD_CURRENT_SURFACE";
-    case EGL_BAD_DISPLAY: return "EGL_BAD_DISPLAY";
-    case EGL_BAD_SURFACE: return "EGL_BAD_SURFACE";
-    case EGL_BAD_MATCH: return "EGL_BAD_MATCH";
-    case EGL_BAD_PARAMETER: return "EGL_BAD_PARAMETER";
-    case EGL_BAD_NATIVE_PIXMAP: return "EGL_BAD_NATIVE_PIXMAP";
-    case EGL_BAD_NATIVE_WINDOW: return "EGL_BAD_NATIVE_WINDOW";
-    case EGL_CONTEXT_LOST: return "EGL_CONTEXT_LOST";
-    default: return "unknown EGL error";
+    case EGL_SUCCESS:
+      return "EGL_SUCCESS";
+    case EGL_NOT_INITIALIZED:
+      return "EGL_NOT_INITIALIZED";
+    case EGL_BAD_ACCESS:
+      return "EGL_BAD_ACCESS";
+    case EGL_BAD_ALLOC:
+      return "EGL_BAD_ALLOC";
+    case EGL_BAD_ATTRIBUTE:
+      return "EGL_BAD_ATTRIBUTE";
+    case EGL_BAD_CONTEXT:
+      return "EGL_BAD_CONTEXT";
+    case EGL_BAD_CONFIG:
+      return "EGL_BAD_CONFIG";
+    case EGL_BAD_CURRENT_SURFACE:
+      return "EGL_BAD_CURRENT_SURFACE";
+    case EGL_BAD_DISPLAY:
+      return "EGL_BAD_DISPLAY";
+    case EGL_BAD_SURFACE:
+      return "EGL_BAD_SURFACE";
+    case EGL_BAD_MATCH:
+      return "EGL_BAD_MATCH";
+    case EGL_BAD_PARAMETER:
+      return "EGL_BAD_PARAMETER";
+    case EGL_BAD_NATIVE_PIXMAP:
+      return "EGL_BAD_NATIVE_PIXMAP";
+    case EGL_BAD_NATIVE_WINDOW:
+      return "EGL_BAD_NATIVE_WINDOW";
+    case EGL_CONTEXT_LOST:
+      return "EGL_CONTEXT_LOST";
+    default:
+      return "unknown EGL error";
   }
 }
 
@@ -95,7 +111,8 @@ std::map<EGLDisplay, int>& display_refs() {
 Status initialize_display(EGLDisplay dpy, std::string* version) {
   std::lock_guard<std::mutex> lock(display_mutex());
   EGLint major = 0, minor = 0;
-  if (!eglInitialize(dpy, &major, &minor)) return Status::error("eglInitialize failed: " + egl_error());
+  if (!eglInitialize(dpy, &major, &minor))
+    return Status::error("eglInitialize failed: " + egl_error());
   ++display_refs()[dpy];
   *version = std::to_string(major) + "." + std::to_string(minor);
   return {};
@@ -195,11 +212,11 @@ Result<std::unique_ptr<Context>> Context::create(int gpu) {
   std::vector<Candidate> candidates;
   if (gpu >= 0) {
     if (devices.empty())
-      return Status::error("no EGL display: EGL device " + std::to_string(gpu) +
-                           " requested but " + why);
+      return Status::error("no EGL display: EGL device " + std::to_string(gpu) + " requested but " +
+                           why);
     if (gpu >= static_cast<int>(devices.size()))
-      return Status::error("no EGL display: EGL device " + std::to_string(gpu) +
-                           " requested, " + std::to_string(devices.size()) + " available");
+      return Status::error("no EGL display: EGL device " + std::to_string(gpu) + " requested, " +
+                           std::to_string(devices.size()) + " available");
     candidates.push_back({device_display(gpu), device_label(gpu)});
   } else {
     int software = -1;
@@ -244,8 +261,7 @@ Result<std::unique_ptr<Context>> Context::create(int gpu) {
     }
     EGLConfig config = EGL_NO_CONFIG_KHR;
     if (!epoxy_has_egl_extension(c.display, "EGL_KHR_no_config_context")) {
-      const EGLint attribs[] = {EGL_RENDERABLE_TYPE, EGL_OPENGL_BIT, EGL_SURFACE_TYPE, 0,
-                                EGL_NONE};
+      const EGLint attribs[] = {EGL_RENDERABLE_TYPE, EGL_OPENGL_BIT, EGL_SURFACE_TYPE, 0, EGL_NONE};
       EGLint n = 0;
       if (!eglChooseConfig(c.display, attribs, &config, 1, &n) || n < 1) {
         fail("no EGL config with EGL_OPENGL_BIT");
@@ -322,8 +338,7 @@ Status Context::make_current() {
 }
 
 bool Context::has_extension(const char* name) const {
-  return std::find(all_extensions_.begin(), all_extensions_.end(), name) !=
-         all_extensions_.end();
+  return std::find(all_extensions_.begin(), all_extensions_.end(), name) != all_extensions_.end();
 }
 
 }  // namespace relief::gl

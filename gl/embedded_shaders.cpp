@@ -10,17 +10,25 @@
 #endif
 
 // Defines relief_shader_<sym>_begin/_end around the bytes of <file>.
-#define RELIEF_EMBED(sym, file)                                          \
-  __asm__(".section .rodata\n"                                           \
-          ".global relief_shader_" #sym "_begin\n"                       \
-          ".hidden relief_shader_" #sym "_begin\n"                       \
-          "relief_shader_" #sym "_begin:\n"                              \
-          ".incbin \"" RELIEF_GL_SHADER_DIR "/" file "\"\n"              \
-          ".global relief_shader_" #sym "_end\n"                         \
-          ".hidden relief_shader_" #sym "_end\n"                         \
-          "relief_shader_" #sym "_end:\n"                                \
-          ".previous\n");                                                \
-  extern "C" const char relief_shader_##sym##_begin[];                   \
+#define RELIEF_EMBED(sym, file)                        \
+  __asm__(                                             \
+      ".section .rodata\n"                             \
+      ".global relief_shader_" #sym                    \
+      "_begin\n"                                       \
+      ".hidden relief_shader_" #sym                    \
+      "_begin\n"                                       \
+      "relief_shader_" #sym                            \
+      "_begin:\n"                                      \
+      ".incbin \"" RELIEF_GL_SHADER_DIR "/" file       \
+      "\"\n"                                           \
+      ".global relief_shader_" #sym                    \
+      "_end\n"                                         \
+      ".hidden relief_shader_" #sym                    \
+      "_end\n"                                         \
+      "relief_shader_" #sym                            \
+      "_end:\n"                                        \
+      ".previous\n");                                  \
+  extern "C" const char relief_shader_##sym##_begin[]; \
   extern "C" const char relief_shader_##sym##_end[];
 
 #define RELIEF_SHADER_LIST(X)                   \
@@ -53,7 +61,7 @@ RELIEF_SHADER_LIST(RELIEF_EMBED)
 namespace relief::gl {
 
 const std::vector<EmbeddedShader>& embedded_shaders() {
-#define RELIEF_ENTRY(sym, file)                      \
+#define RELIEF_ENTRY(sym, file)                     \
   EmbeddedShader{file, relief_shader_##sym##_begin, \
                  static_cast<size_t>(relief_shader_##sym##_end - relief_shader_##sym##_begin)},
   static const std::vector<EmbeddedShader> list = {RELIEF_SHADER_LIST(RELIEF_ENTRY)};

@@ -37,9 +37,8 @@ Result<PackedHeightField> pack_height_field(const Texture& depth, const SamplerS
   const int levels = hf.num_levels();
   if (levels > kMaxFieldLevels)
     return Status::error("exact: a " + std::to_string(hf.size(0)) + "x" +
-                         std::to_string(hf.size(1)) + " depth map needs " +
-                         std::to_string(levels) + " max-mip levels, the GL twin holds " +
-                         std::to_string(kMaxFieldLevels));
+                         std::to_string(hf.size(1)) + " depth map needs " + std::to_string(levels) +
+                         " max-mip levels, the GL twin holds " + std::to_string(kMaxFieldLevels));
   PackedHeightField p;
   std::vector<uint32_t>& out = p.words;
   out.assign(PackedHeightField::kHeaderWords, 0u);

@@ -28,7 +28,8 @@ std::vector<fs::path> shader_dirs() {
 }
 
 bool valid_name(const std::string& name) {
-  return !name.empty() && name.find('/') == std::string::npos && name.find("..") == std::string::npos;
+  return !name.empty() && name.find('/') == std::string::npos &&
+         name.find("..") == std::string::npos;
 }
 
 bool is_shader_name(const std::string& name) {
@@ -136,8 +137,8 @@ Result<ShaderSource> preprocess_shader(const std::string& name, const std::strin
           return Status::error(fname + ":" + std::to_string(lineno) + ": malformed #include");
         const std::string inc = trimmed.substr(q0 + 1, q1 - q0 - 1);
         if (std::find(stack.begin(), stack.end(), inc) != stack.end())
-          return Status::error(fname + ":" + std::to_string(lineno) + ": #include cycle through \"" +
-                               inc + "\"");
+          return Status::error(fname + ":" + std::to_string(lineno) +
+                               ": #include cycle through \"" + inc + "\"");
         if (included.insert(inc).second) {
           Result<std::string> content2 = read(inc);
           if (!content2.ok())
@@ -225,7 +226,8 @@ Result<unsigned> link_program(const std::vector<unsigned>& shaders, const std::s
   glDeleteProgram(program);
   log.resize(std::strlen(log.c_str()));
   std::string first = log.substr(0, log.find('\n'));
-  return Status::error("GLSL link error (" + label + "): " + (first.empty() ? "(empty log)" : first));
+  return Status::error("GLSL link error (" + label +
+                       "): " + (first.empty() ? "(empty log)" : first));
 }
 
 Result<unsigned> build_program(const std::string& vertex_file, const std::string& fragment_file,

@@ -28,7 +28,9 @@ using ConeQuadSearch = ConeFamilySearch<QuadTextureCone, kIndex>;
 
 }  // namespace
 
-ShadeFn select_cone_quad(EffectMask e) { return select_relief_variant<ConeQuadSearch>(e); }
+ShadeFn select_cone_quad(EffectMask e) {
+  return select_relief_variant<ConeQuadSearch>(e);
+}
 
 }  // namespace HWY_NAMESPACE
 }  // namespace relief

@@ -1,7 +1,9 @@
 // `exact`: the exact first hit on the bilinear height field: the accuracy reference
-// Tevs, Ihrke and Seidel, "Maximum Mipmaps for Fast, Accurate, and Scalable Dynamic Height Field Rendering", I3D 2008 (max-mip traversal; per-cell closed-form patch solve in shaders_cpp/exact.cpp).
-// The max-mip traversal of shaders_cpp/exact.h inside the shared shell (plugins/relief_shell.h);
-// the self-shadow answer is exact too. The max-mip is the plugin's per-material state.
+// Tevs, Ihrke and Seidel, "Maximum Mipmaps for Fast, Accurate, and Scalable Dynamic Height Field
+// Rendering", I3D 2008 (max-mip traversal; per-cell closed-form patch solve in
+// shaders_cpp/exact.cpp). The max-mip traversal of shaders_cpp/exact.h inside the shared shell
+// (plugins/relief_shell.h); the self-shadow answer is exact too. The max-mip is the plugin's
+// per-material state.
 #undef HWY_TARGET_INCLUDE
 #define HWY_TARGET_INCLUDE "plugins/exact.cpp"
 #include <hwy/foreach_target.h>  // IWYU pragma: keep
@@ -46,11 +48,15 @@ void* create_exact(const MaterialUniforms& m) {
   if (!t || t->empty()) return nullptr;
   return new HeightField(HeightField::from_texture(*t, m.samplers[kDepthSlot]));
 }
-void destroy_exact(void* s) { delete static_cast<HeightField*>(s); }
+void destroy_exact(void* s) {
+  delete static_cast<HeightField*>(s);
+}
 
 }  // namespace
 
-ShadeFn select_exact(EffectMask e) { return select_relief_variant<ExactSearch>(e); }
+ShadeFn select_exact(EffectMask e) {
+  return select_relief_variant<ExactSearch>(e);
+}
 
 }  // namespace HWY_NAMESPACE
 }  // namespace relief
@@ -63,10 +69,19 @@ RELIEF_SELECT_FOR_EVERY_TARGET(select_exact)
 
 extern const PluginDescriptor kExactPlugin;
 const PluginDescriptor kExactPlugin = {
-    kPluginAbiVersion, "exact", "exact first hit on the bilinear height field (max-mip traversal + patch solve): the reference",
-    kParams, std::size(kParams), kReliefSlots, std::size(kReliefSlots),
+    kPluginAbiVersion,
+    "exact",
+    "exact first hit on the bilinear height field (max-mip traversal + patch solve): the reference",
+    kParams,
+    std::size(kParams),
+    kReliefSlots,
+    std::size(kReliefSlots),
     kReliefShellEffects,
-    &select_exact_dispatch, &relief_depth_output, &create_exact, &destroy_exact, nullptr,
+    &select_exact_dispatch,
+    &relief_depth_output,
+    &create_exact,
+    &destroy_exact,
+    nullptr,
 };
 
 }  // namespace relief

@@ -1,7 +1,8 @@
-// `parallax`: parallax mapping, one offset read at the fragment (Kaneko et al. 2001), optional offset limiting
-// Kaneko et al., "Detailed shape representation with parallax mapping", ICAT 2001; Welsh, "Parallax mapping with offset limiting", 2004.
-// One depth read and one offset inside the shared shell (plugins/relief_shell.h); the self-shadow
-// ray is the marched one with a larger start offset, since the offset point is only approximate.
+// `parallax`: parallax mapping, one offset read at the fragment (Kaneko et al. 2001), optional
+// offset limiting Kaneko et al., "Detailed shape representation with parallax mapping", ICAT 2001;
+// Welsh, "Parallax mapping with offset limiting", 2004. One depth read and one offset inside the
+// shared shell (plugins/relief_shell.h); the self-shadow ray is the marched one with a larger start
+// offset, since the offset point is only approximate.
 #undef HWY_TARGET_INCLUDE
 #define HWY_TARGET_INCLUDE "plugins/parallax.cpp"
 #include <hwy/foreach_target.h>  // IWYU pragma: keep
@@ -17,15 +18,17 @@ namespace {
 enum Param { kDepthScaleParam, kOffsetLimiting, kShadowStepsParam };
 const ParamSpec kParams[] = {
     kDepthScaleSpec,
-    {"offset_limiting", ParamType::kBool, 1.0f, 0.0f, 1.0f, nullptr, "drop the 1 / V.z of the offset (Welsh 2004)"},
+    {"offset_limiting", ParamType::kBool, 1.0f, 0.0f, 1.0f, nullptr,
+     "drop the 1 / V.z of the offset (Welsh 2004)"},
     kShadowStepsSpec,
 };
 
 struct ParallaxSearch {
   static constexpr int kDepthScale = kDepthScaleParam;
   template <class F>
-  static SearchHit<F> search(const ShadeContext& ctx, const FragIn<F>& in, const TextureDepth& depth,
-                             const V3<F>& V, const V2<F>& ds, mask_t<F> active) {
+  static SearchHit<F> search(const ShadeContext& ctx, const FragIn<F>& in,
+                             const TextureDepth& depth, const V3<F>& V, const V2<F>& ds,
+                             mask_t<F> active) {
     const bool limit = ctx.material->params[kOffsetLimiting] != 0.0f;
     return parallax_offset(depth, in.uv, ds, V.z, limit, active);
   }
@@ -39,7 +42,9 @@ struct ParallaxSearch {
 
 }  // namespace
 
-ShadeFn select_parallax(EffectMask e) { return select_relief_variant<ParallaxSearch>(e); }
+ShadeFn select_parallax(EffectMask e) {
+  return select_relief_variant<ParallaxSearch>(e);
+}
 
 }  // namespace HWY_NAMESPACE
 }  // namespace relief
@@ -52,10 +57,19 @@ RELIEF_SELECT_FOR_EVERY_TARGET(select_parallax)
 
 extern const PluginDescriptor kParallaxPlugin;
 const PluginDescriptor kParallaxPlugin = {
-    kPluginAbiVersion, "parallax", "parallax mapping, one offset, optional offset limiting (Kaneko 2001; Welsh 2004)",
-    kParams, std::size(kParams), kReliefSlots, std::size(kReliefSlots),
+    kPluginAbiVersion,
+    "parallax",
+    "parallax mapping, one offset, optional offset limiting (Kaneko 2001; Welsh 2004)",
+    kParams,
+    std::size(kParams),
+    kReliefSlots,
+    std::size(kReliefSlots),
     kReliefShellEffects,
-    &select_parallax_dispatch, &relief_depth_output, nullptr, nullptr, nullptr,
+    &select_parallax_dispatch,
+    &relief_depth_output,
+    nullptr,
+    nullptr,
+    nullptr,
 };
 
 }  // namespace relief

@@ -34,7 +34,9 @@ struct PomSearch : MarchedShadow<kShadowStepsParam> {
 
 }  // namespace
 
-ShadeFn select_pom(EffectMask e) { return select_relief_variant<PomSearch>(e); }
+ShadeFn select_pom(EffectMask e) {
+  return select_relief_variant<PomSearch>(e);
+}
 
 }  // namespace HWY_NAMESPACE
 }  // namespace relief

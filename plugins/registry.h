@@ -5,8 +5,8 @@
 #include <string>
 #include <vector>
 
-#include "plugins/plugin.h"
 #include "base/status.h"
+#include "plugins/plugin.h"
 
 namespace relief {
 

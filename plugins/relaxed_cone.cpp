@@ -30,7 +30,9 @@ using RelaxedConeSearch = ConeFamilySearch<TextureCone, kIndex>;
 
 }  // namespace
 
-ShadeFn select_relaxed_cone(EffectMask e) { return select_relief_variant<RelaxedConeSearch>(e); }
+ShadeFn select_relaxed_cone(EffectMask e) {
+  return select_relief_variant<RelaxedConeSearch>(e);
+}
 
 }  // namespace HWY_NAMESPACE
 }  // namespace relief
@@ -42,11 +44,11 @@ namespace relief {
 RELIEF_SELECT_FOR_EVERY_TARGET(select_relaxed_cone)
 
 extern const PluginDescriptor kRelaxedConePlugin;
-const PluginDescriptor kRelaxedConePlugin = cone_plugin(
-    "relaxed_cone",
-    "relaxed cone stepping + binary search (Policarpo & Oliveira 2007), bracket-safe: "
-    "self-shadow, depth correction",
-    kParams, kSlots, &select_relaxed_cone_dispatch);
+const PluginDescriptor kRelaxedConePlugin =
+    cone_plugin("relaxed_cone",
+                "relaxed cone stepping + binary search (Policarpo & Oliveira 2007), bracket-safe: "
+                "self-shadow, depth correction",
+                kParams, kSlots, &select_relaxed_cone_dispatch);
 
 }  // namespace relief
 #endif  // HWY_ONCE

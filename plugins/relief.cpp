@@ -41,7 +41,9 @@ struct ReliefSearch : MarchedShadow<kShadowStepsParam> {
 
 }  // namespace
 
-ShadeFn select_relief(EffectMask e) { return select_relief_variant<ReliefSearch>(e); }
+ShadeFn select_relief(EffectMask e) {
+  return select_relief_variant<ReliefSearch>(e);
+}
 
 }  // namespace HWY_NAMESPACE
 }  // namespace relief

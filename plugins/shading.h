@@ -183,7 +183,7 @@ namespace detail {
 // instructions a fragment (docs/performance.md, "Per-target compilation").
 template <class Kernel>
 RELIEF_LANE_FLATTEN void shade_lanes(const ShadeContext& ctx, const FragmentPacket& in,
-                                  FragmentOutput& out, WorkCounters& wc) {
+                                     FragmentOutput& out, WorkCounters& wc) {
   static_assert(kPacketLanes % kLanes == 0);
   const int lanes = in.num_quads * kQuadLanes;
   for (int l = 0; l < lanes; l += kLanes) {
@@ -220,9 +220,9 @@ HWY_AFTER_NAMESPACE();
 // and, once (#if HWY_ONCE, in namespace relief), RELIEF_SELECT_FOR_EVERY_TARGET(NAME): it
 // defines NAME_dispatch, the descriptor's `select`, which returns the packet shader of the SIMD
 // level in use (base/simd.h) when the draw is planned. No vector crosses it.
-#define RELIEF_SELECT_FOR_EVERY_TARGET(NAME)                       \
-  HWY_EXPORT(NAME);                                                \
-  ShadeFn NAME##_dispatch(EffectMask effects) {                    \
-    return HWY_DYNAMIC_DISPATCH(NAME)(effects);                    \
+#define RELIEF_SELECT_FOR_EVERY_TARGET(NAME)    \
+  HWY_EXPORT(NAME);                             \
+  ShadeFn NAME##_dispatch(EffectMask effects) { \
+    return HWY_DYNAMIC_DISPATCH(NAME)(effects); \
   }
 #endif  // RELIEF_PLUGINS_SHADING_H_ONCE

@@ -43,7 +43,9 @@ struct SteepSearch {
 
 }  // namespace
 
-ShadeFn select_steep(EffectMask e) { return select_relief_variant<SteepSearch>(e); }
+ShadeFn select_steep(EffectMask e) {
+  return select_relief_variant<SteepSearch>(e);
+}
 
 }  // namespace HWY_NAMESPACE
 }  // namespace relief

@@ -20,12 +20,12 @@ inline constexpr int kMaxVaryings = 32;
 struct alignas(64) FragmentPacket {
   int num_quads = 0;
   int num_varyings = 0;
-  bool front_facing = true;          // gl_FrontFacing, one triangle per packet
-  uint8_t coverage[kPacketQuads];    // bit l set: lane l of the quad is inside the triangle
-  float frag_x[kPacketLanes];        // gl_FragCoord.x (pixel centre, x + 0.5), origin top-left
-  float frag_y[kPacketLanes];        // gl_FragCoord.y (pixel centre), rows top to bottom
-  float frag_z[kPacketLanes];        // polygon depth, reversed-Z [0, 1]
-  float inv_w[kPacketLanes];         // gl_FragCoord.w = 1 / w_clip
+  bool front_facing = true;        // gl_FrontFacing, one triangle per packet
+  uint8_t coverage[kPacketQuads];  // bit l set: lane l of the quad is inside the triangle
+  float frag_x[kPacketLanes];      // gl_FragCoord.x (pixel centre, x + 0.5), origin top-left
+  float frag_y[kPacketLanes];      // gl_FragCoord.y (pixel centre), rows top to bottom
+  float frag_z[kPacketLanes];      // polygon depth, reversed-Z [0, 1]
+  float inv_w[kPacketLanes];       // gl_FragCoord.w = 1 / w_clip
   float varyings[kMaxVaryings][kPacketLanes];  // perspective-correct
 
   bool lane_covered(int lane) const { return (coverage[lane >> 2] >> (lane & 3)) & 1; }

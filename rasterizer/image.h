@@ -46,7 +46,9 @@ inline constexpr int kAovTotalChannels = 7;
 inline constexpr const char* kAovNames[kAovCount] = {"uv", "hit_depth", "steps", "normal"};
 
 using AovMask = uint32_t;
-inline constexpr AovMask aov_bit(Aov a) { return 1u << static_cast<int>(a); }
+inline constexpr AovMask aov_bit(Aov a) {
+  return 1u << static_cast<int>(a);
+}
 
 // The render target of one pass: colour, depth and the requested AOVs (stored as channels in
 // `aov`, kAovTotalChannels per pixel, only when aov_mask is non-zero).
@@ -61,7 +63,9 @@ struct Framebuffer {
   Framebuffer() = default;
   Framebuffer(int w, int h, AovMask aovs = 0);
   void clear(glm::vec4 color_value, float depth_value = 0.0f);
-  float* aov_at(int x, int y) { return &aov[(static_cast<size_t>(y) * width + x) * kAovTotalChannels]; }
+  float* aov_at(int x, int y) {
+    return &aov[(static_cast<size_t>(y) * width + x) * kAovTotalChannels];
+  }
   const float* aov_at(int x, int y) const {
     return &aov[(static_cast<size_t>(y) * width + x) * kAovTotalChannels];
   }

@@ -14,7 +14,6 @@ namespace {
 
 using namespace raster_detail;
 
-
 // A vertex after clipping: clip position and varyings, stored by the draw's vertex arena.
 struct ClipVertex {
   glm::vec4 clip;
@@ -23,20 +22,27 @@ struct ClipVertex {
 
 // A vertex after the perspective divide and viewport: what setup needs.
 struct ScreenVertex {
-  int32_t x, y;     // fixed point, 8 sub-pixel bits
-  float z;          // NDC depth, reversed-Z
-  float iw;         // 1 / w
-  uint32_t vary;    // offset of the premultiplied (v / w) varyings in the frame's arena
+  int32_t x, y;   // fixed point, 8 sub-pixel bits
+  float z;        // NDC depth, reversed-Z
+  float iw;       // 1 / w
+  uint32_t vary;  // offset of the premultiplied (v / w) varyings in the frame's arena
 };
-
-
 
 // Outcode bits against the clip volume (near, far) and the guard band.
 enum : uint32_t {
-  kOutNear = 1, kOutFar = 2, kOutGuardL = 4, kOutGuardR = 8, kOutGuardT = 16, kOutGuardB = 32,
-  kOutViewL = 64, kOutViewR = 128, kOutViewT = 256, kOutViewB = 512,
+  kOutNear = 1,
+  kOutFar = 2,
+  kOutGuardL = 4,
+  kOutGuardR = 8,
+  kOutGuardT = 16,
+  kOutGuardB = 32,
+  kOutViewL = 64,
+  kOutViewR = 128,
+  kOutViewT = 256,
+  kOutViewB = 512,
 };
-constexpr uint32_t kNeedsClip = kOutNear | kOutFar | kOutGuardL | kOutGuardR | kOutGuardT | kOutGuardB;
+constexpr uint32_t kNeedsClip =
+    kOutNear | kOutFar | kOutGuardL | kOutGuardR | kOutGuardT | kOutGuardB;
 
 bool finite4(const glm::vec4& v) {
   return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z) && std::isfinite(v.w);
@@ -109,12 +115,18 @@ uint32_t clip_outcode(const glm::vec4& c, float gx, float gy) {
 // Signed distance to clip plane p (>= 0 inside).
 float plane_distance(int p, const glm::vec4& c, float gx, float gy) {
   switch (p) {
-    case 0: return c.w - c.z;        // near
-    case 1: return c.z;              // far
-    case 2: return c.x + gx * c.w;   // guard left
-    case 3: return gx * c.w - c.x;   // guard right
-    case 4: return gy * c.w - c.y;   // guard top
-    default: return c.y + gy * c.w;  // guard bottom
+    case 0:
+      return c.w - c.z;  // near
+    case 1:
+      return c.z;  // far
+    case 2:
+      return c.x + gx * c.w;  // guard left
+    case 3:
+      return gx * c.w - c.x;  // guard right
+    case 4:
+      return gy * c.w - c.y;  // guard top
+    default:
+      return c.y + gy * c.w;  // guard bottom
   }
 }
 
@@ -168,11 +180,11 @@ void clip_triangle(const ClipVertex in[3], int nv, uint32_t planes, float gx, fl
 struct Rasterizer::Impl {
   // Frame state, reused between frames so steady state does not allocate.
   std::vector<SetupTriangle> tris;
-  std::vector<float> vary;                 // premultiplied varyings of every screen vertex
-  std::vector<std::vector<uint32_t>> bins; // triangle indices per tile, submission order
-  std::vector<float> clip_arena;           // varyings of vertices made by the clipper
-  std::vector<float> planes;               // attribute planes of every setup triangle
-  std::vector<uint32_t> codes;             // per-vertex scratch of setup_draw
+  std::vector<float> vary;                  // premultiplied varyings of every screen vertex
+  std::vector<std::vector<uint32_t>> bins;  // triangle indices per tile, submission order
+  std::vector<float> clip_arena;            // varyings of vertices made by the clipper
+  std::vector<float> planes;                // attribute planes of every setup triangle
+  std::vector<uint32_t> codes;              // per-vertex scratch of setup_draw
   std::vector<ScreenVertex> screen;
   std::vector<uint8_t> valid;
   std::vector<std::unique_ptr<Worker>> workers;
@@ -320,9 +332,6 @@ struct Rasterizer::Impl {
     stats.triangles_binned = tris.size();
   }
 
-
-
-
   // Clears one tile's rows of every plane the target has (a depth-only target has no colour).
   void clear_tile(Framebuffer& fb, const ClearValues& c, int tile) const {
     int x0, y0, x1, y1;
@@ -336,7 +345,6 @@ struct Rasterizer::Impl {
         std::fill_n(fb.aov.begin() + row * kAovTotalChannels, n * kAovTotalChannels, 0.0f);
     }
   }
-
 };
 
 Rasterizer::Rasterizer(ThreadPool& pool, RasterConfig config)
@@ -400,8 +408,8 @@ void transform_positions(const glm::mat4& mvp, std::span<const glm::vec3> positi
   for (size_t i = 0; i < positions.size(); ++i) clip[i] = mvp * glm::vec4(positions[i], 1.0f);
 }
 
-bool cpu_triangle_planes(const glm::vec4 clip[3], const float* const varyings[3],
-                         int num_varyings, int width, int height, CpuTrianglePlanes& out) {
+bool cpu_triangle_planes(const glm::vec4 clip[3], const float* const varyings[3], int num_varyings,
+                         int width, int height, CpuTrianglePlanes& out) {
   CHECK_LE(num_varyings, kMaxVaryings);
   out.parts.clear();
   const int nv = num_varyings;
@@ -426,7 +434,8 @@ bool cpu_triangle_planes(const glm::vec4 clip[3], const float* const varyings[3]
       arena.insert(arena.end(), varyings[i], varyings[i] + nv);
     }
   } else {
-    const ClipVertex in[3] = {{clip[0], varyings[0]}, {clip[1], varyings[1]}, {clip[2], varyings[2]}};
+    const ClipVertex in[3] = {
+        {clip[0], varyings[0]}, {clip[1], varyings[1]}, {clip[2], varyings[2]}};
     clip_triangle(in, nv, any & 0x3fu, gx, gy, arena, poly);
     if (poly.n < 3) return false;
   }
@@ -444,8 +453,7 @@ bool cpu_triangle_planes(const glm::vec4 clip[3], const float* const varyings[3]
       py[i] = sy[v];
       values[kPlaneZ][i] = sz[v];
       values[kPlaneIw][i] = siw[v];
-      for (int k = 0; k < nv; ++k)
-        values[kPlaneVary + k][i] = arena[poly.arena[v] + k] * siw[v];
+      for (int k = 0; k < nv; ++k) values[kPlaneVary + k][i] = arena[poly.arena[v] + k] * siw[v];
     }
     const int64_t area =
         int64_t(px[1] - px[0]) * (py[2] - py[0]) - int64_t(py[1] - py[0]) * (px[2] - px[0]);
@@ -458,8 +466,8 @@ bool cpu_triangle_planes(const glm::vec4 clip[3], const float* const varyings[3]
     CpuTrianglePlanes::Part part;
     int x1, y1;
     if (!pixel_box(std::min({px[0], px[1], px[2]}), std::max({px[0], px[1], px[2]}),
-                   std::min({py[0], py[1], py[2]}), std::max({py[0], py[1], py[2]}), width,
-                   height, part.x0, part.y0, x1, y1))
+                   std::min({py[0], py[1], py[2]}), std::max({py[0], py[1], py[2]}), width, height,
+                   part.x0, part.y0, x1, y1))
       continue;
     for (int i = 0; i < 3; ++i) {
       part.corner[2 * i] = static_cast<float>(px[i]) / kSubOne;

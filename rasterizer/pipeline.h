@@ -21,9 +21,9 @@
 #include <glm/vec3.hpp>
 #include <glm/vec4.hpp>
 
+#include "base/thread_pool.h"
 #include "rasterizer/fragment.h"
 #include "rasterizer/image.h"
-#include "base/thread_pool.h"
 
 namespace relief {
 
@@ -42,21 +42,21 @@ using PacketShader = void (*)(const void* user, const FragmentPacket& in, Fragme
                               WorkCounters& counters);
 
 struct DrawCall {
-  std::span<const glm::vec4> clip;   // per vertex
-  std::span<const float> varyings;   // per vertex, num_varyings each
-  int num_varyings = 0;              // <= kMaxVaryings
-  std::span<const uint32_t> indices; // three per triangle
+  std::span<const glm::vec4> clip;    // per vertex
+  std::span<const float> varyings;    // per vertex, num_varyings each
+  int num_varyings = 0;               // <= kMaxVaryings
+  std::span<const uint32_t> indices;  // three per triangle
   CullMode cull = CullMode::kBack;
   DepthTest depth_test = DepthTest::kEarly;
   bool depth_write = true;
   bool color_write = true;
-  bool aov_write = false;            // copy the shader's AOVs into the framebuffer
+  bool aov_write = false;  // copy the shader's AOVs into the framebuffer
   // Composite the shader's colour (straight alpha) over the target's, which holds premultiplied
   // colour: rgb = src.rgb * a + dst.rgb * (1 - a), alpha = a + dst.a * (1 - a) (src-over, linear).
   // Fragments of a tile are composited in submission order, so the result is deterministic.
   bool blend = false;
   PacketShader shader = nullptr;
-  const void* user = nullptr;        // passed to the shader
+  const void* user = nullptr;  // passed to the shader
 };
 
 struct RasterConfig {
@@ -102,8 +102,8 @@ struct CpuTrianglePlanes {
   };
   std::vector<Part> parts;
 };
-bool cpu_triangle_planes(const glm::vec4 clip[3], const float* const varyings[3],
-                         int num_varyings, int width, int height, CpuTrianglePlanes& out);
+bool cpu_triangle_planes(const glm::vec4 clip[3], const float* const varyings[3], int num_varyings,
+                         int width, int height, CpuTrianglePlanes& out);
 
 class Rasterizer {
  public:

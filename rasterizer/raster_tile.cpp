@@ -64,8 +64,8 @@ void flush(Worker& w, Framebuffer& fb, const DrawCall& dc) {
         glm::vec4& dst = fb.color.at(x, y);
         if (dc.blend) {
           const float a = std::clamp(c.a, 0.0f, 1.0f), keep = 1.0f - a;
-          dst = glm::vec4(c.r * a + dst.r * keep, c.g * a + dst.g * keep,
-                          c.b * a + dst.b * keep, a + dst.a * keep);
+          dst = glm::vec4(c.r * a + dst.r * keep, c.g * a + dst.g * keep, c.b * a + dst.b * keep,
+                          a + dst.a * keep);
         } else {
           dst = c;
         }
@@ -216,7 +216,7 @@ void raster_triangle(const TileGrid& g, Worker& w, Framebuffer& fb, const DrawCa
 
 // flatten: the traversal inlined into one function (speed only; see plugins/shading.h).
 RELIEF_LANE_FLATTEN void raster_tile(const TileGrid& g, Worker& w, Framebuffer& fb,
-                                  std::span<const DrawCall> draws, int tile) {
+                                     std::span<const DrawCall> draws, int tile) {
   int x0, y0, x1, y1;
   tile_rect(g, fb, tile, x0, y0, x1, y1);
   for (uint32_t ti : g.bins[tile]) {

@@ -21,10 +21,10 @@ constexpr int64_t kHalf = kSubOne / 2;
 struct SetupTriangle {
   int draw;
   bool front_facing;
-  int x0, y0, x1, y1;          // pixel bounding box, inclusive, inside the viewport
-  int64_t a[3], b[3], c[3];    // edge functions E = a*px + b*py + c in fixed point
-  int64_t bias[3];             // 0 for top-left edges, -1 otherwise
-  uint32_t plane;              // offset in the frame's plane arena: (2 + nv) x {c, dx, dy}
+  int x0, y0, x1, y1;        // pixel bounding box, inclusive, inside the viewport
+  int64_t a[3], b[3], c[3];  // edge functions E = a*px + b*py + c in fixed point
+  int64_t bias[3];           // 0 for top-left edges, -1 otherwise
+  uint32_t plane;            // offset in the frame's plane arena: (2 + nv) x {c, dx, dy}
 };
 
 // Attribute planes are evaluated as (c + dx * fx) + dy * fy with fx = px - x0, fy = py - y0 (whole
@@ -51,8 +51,8 @@ struct TileGrid {
 };
 
 // Tile `tile`'s pixels in [x0, x1] x [y0, y1] (inclusive), clipped to the target.
-inline void tile_rect(const TileGrid& g, const Framebuffer& fb, int tile, int& x0, int& y0,
-                      int& x1, int& y1) {
+inline void tile_rect(const TileGrid& g, const Framebuffer& fb, int tile, int& x0, int& y0, int& x1,
+                      int& y1) {
   const int tx = tile % g.tiles_x, ty = tile / g.tiles_x;
   x0 = tx * g.tile;
   y0 = ty * g.tile;

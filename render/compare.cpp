@@ -75,11 +75,12 @@ Image diff_heatmap(const Image& a, const Image& b, float threshold, DiffSpace sp
       if (e <= 0.0f)
         c = glm::vec3(0.0f);
       else if (e < 0.5f)
-        c = glm::vec3(0.0f, 0.0f, 0.25f + 1.5f * e);          // dark to full blue
+        c = glm::vec3(0.0f, 0.0f, 0.25f + 1.5f * e);  // dark to full blue
       else if (e <= 1.0f)
         c = glm::vec3(0.0f, 2.0f * (e - 0.5f), 1.0f - 2.0f * (e - 0.5f));  // blue to green
       else
-        c = glm::vec3(1.0f, std::clamp(1.0f - (e - 1.0f) / 3.0f, 0.0f, 1.0f), 0.0f);  // yellow to red
+        c = glm::vec3(1.0f, std::clamp(1.0f - (e - 1.0f) / 3.0f, 0.0f, 1.0f),
+                      0.0f);  // yellow to red
       out.at(x, y) = glm::vec4(c, 1.0f);
     }
   return out;

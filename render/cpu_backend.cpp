@@ -37,7 +37,8 @@ void depth_only(const void*, const FragmentPacket&, FragmentOutput&, WorkCounter
 // alpha at uv is below the cutoff (shade_packet's resolve_alpha discards). The material it gets
 // has the plugin's base_color texture, if any, in slot 0.
 struct MaskCasterKernel {
-  template <class F> static ShadeOut<F> shade(const ShadeContext& ctx, const FragIn<F>& in) {
+  template <class F>
+  static ShadeOut<F> shade(const ShadeContext& ctx, const FragIn<F>& in) {
     ShadeOut<F> o;
     o.alpha = sample_alpha(*ctx.material, 0, in.uv, in, o.fetches);
     return o;
@@ -245,8 +246,8 @@ class CpuBackend final : public Backend {
 
   ThreadPool pool_;
   std::unique_ptr<Rasterizer> rasterizer_;
-  Framebuffer spare_;                // from recycle(): the next frame's main target
-  std::vector<Plane> shadow_planes_; // the last frame's shadow maps, reused by the next
+  Framebuffer spare_;                 // from recycle(): the next frame's main target
+  std::vector<Plane> shadow_planes_;  // the last frame's shadow maps, reused by the next
 };
 
 }  // namespace

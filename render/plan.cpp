@@ -256,7 +256,8 @@ Result<Plan> make_plan(const Scene& scene, const RenderOptions& opt) {
       const TextureSlotSpec& slot = b.plugin->textures[s];
       if (b.plugin->reads_texture && !b.plugin->reads_texture(b.uniforms.params, s)) {
         if (is_derived_slot(slot.name))
-          b.reasons.push_back(std::string(slot.name) + ": not baked (these parameters do not read it)");
+          b.reasons.push_back(std::string(slot.name) +
+                              ": not baked (these parameters do not read it)");
         continue;
       }
       auto it = m.textures.find(slot.name);
@@ -322,7 +323,8 @@ Result<Plan> make_plan(const Scene& scene, const RenderOptions& opt) {
     plan.materials.push_back(std::move(b));
   }
   for (const auto& [key, used] : param_used)
-    if (!used && !plan.materials.empty()) {  // the first material's plugin names the key in its error
+    if (!used &&
+        !plan.materials.empty()) {  // the first material's plugin names the key in its error
       Result<std::vector<float>> none =
           resolve_params(*plan.materials.front().plugin, {}, {{key, opt.params.at(key)}});
       return Status::usage(none.status().message() + "; no technique in this scene declares it");

@@ -34,10 +34,12 @@ std::vector<PreparedDraw> prepare_draws(const Scene& scene, const glm::mat4& vie
       const glm::vec4 wp = model * glm::vec4(mesh.positions[v], 1.0f);
       d.clip[v] = view_proj * wp;
       float* o = &d.varyings[v * nv];
-      const glm::vec3 nrm = v < mesh.normals.size() ? normal_matrix * mesh.normals[v] : glm::vec3(0, 0, 1);
+      const glm::vec3 nrm =
+          v < mesh.normals.size() ? normal_matrix * mesh.normals[v] : glm::vec3(0, 0, 1);
       const glm::vec4 t = v < mesh.tangents.size() ? mesh.tangents[v] : glm::vec4(1, 0, 0, 1);
       const glm::vec3 wt = linear * glm::vec3(t);
-      const glm::vec2 uv = v < mesh.uvs.size() ? mesh.uvs[v] * mat.uv_scale + mat.uv_offset : glm::vec2(0);
+      const glm::vec2 uv =
+          v < mesh.uvs.size() ? mesh.uvs[v] * mat.uv_scale + mat.uv_offset : glm::vec2(0);
       glm::vec2 ts = v < mesh.tile_scale.size() ? mesh.tile_scale[v] : glm::vec2(1);
       // World units per (tiled) uv unit along T and B.
       ts = ts / glm::max(glm::abs(mat.uv_scale), glm::vec2(1e-12f));
@@ -55,11 +57,12 @@ std::vector<PreparedDraw> prepare_draws(const Scene& scene, const glm::mat4& vie
         const float sx = wt_len / glm::length(glm::vec3(t));
         const float sy = wb_len / glm::length(ob);
         const float sz = glm::length(on) / glm::length(nrm);
-        if (sx > 0.0f && sy > 0.0f && std::isfinite(sz)) q *= glm::vec2(sz / (sx * sx), sz / (sy * sy));
+        if (sx > 0.0f && sy > 0.0f && std::isfinite(sz))
+          q *= glm::vec2(sz / (sx * sx), sz / (sy * sy));
       }
-      const float vals[varying::kCount] = {wp.x,  wp.y,  wp.z,  nrm.x, nrm.y, nrm.z,
-                                           wt.x,  wt.y,  wt.z,  t.w * handedness,
-                                           uv.x,  uv.y,  q.x,   q.y,   ts.x,  ts.y};
+      const float vals[varying::kCount] = {
+          wp.x, wp.y, wp.z, nrm.x, nrm.y, nrm.z, wt.x, wt.y, wt.z, t.w * handedness,
+          uv.x, uv.y, q.x,  q.y,   ts.x,  ts.y};
       for (int k = 0; k < varying::kCount; ++k) o[k] = vals[k];
       if (extended) {
         const glm::vec4 c = v < mesh.colors.size() ? mesh.colors[v] : glm::vec4(1.0f);

@@ -13,10 +13,10 @@
 #include <string>
 #include <vector>
 
+#include "base/status.h"
 #include "plugins/plugin.h"
 #include "rasterizer/image.h"
 #include "rasterizer/pipeline.h"
-#include "base/status.h"
 #include "render/shadow_map.h"
 #include "scene/scene.h"
 
@@ -25,10 +25,10 @@ namespace relief {
 struct RenderOptions {
   int width = 800;
   int height = 600;
-  int threads = 0;           // 0: all cores
+  int threads = 0;  // 0: all cores
   int tile_size = 64;
-  int camera = 0;            // index into Scene::cameras
-  std::string technique;     // when set, replaces every relief material's technique
+  int camera = 0;         // index into Scene::cameras
+  std::string technique;  // when set, replaces every relief material's technique
   std::map<std::string, std::string> params;  // key=value overrides of plugin parameters
   AovMask aovs = 0;
   bool scalar_lanes = false;  // run kernels one fragment at a time (reference path)
@@ -46,9 +46,9 @@ struct BoundMaterial {
   std::string name;  // Material::name
   const PluginDescriptor* plugin = nullptr;
   MaterialUniforms uniforms;
-  EffectMask effects = 0;               // requested & supported
-  std::vector<std::string> reasons;     // why each effect is on or off (for --explain)
-  std::vector<TexturePtr> keep_alive;   // textures referenced by uniforms
+  EffectMask effects = 0;              // requested & supported
+  std::vector<std::string> reasons;    // why each effect is on or off (for --explain)
+  std::vector<TexturePtr> keep_alive;  // textures referenced by uniforms
   bool double_sided = false;
   // Shadow passes: whether the material's instances are drawn into them and with which variant
   // (kEffectShadowPass: intersection from the light and corrected depth; 0: polygon depth, no
@@ -61,7 +61,7 @@ struct PassPlan {
   enum class Kind { kShadow, kMain } kind = Kind::kMain;
   std::string name;
   std::string reason;
-  int light = -1;  // shadow passes
+  int light = -1;              // shadow passes
   std::vector<int> instances;  // shadow passes: the casters drawn
   ShadowPassSetup shadow;      // shadow passes: the light's view
 };
@@ -69,14 +69,14 @@ struct PassPlan {
 struct Plan {
   std::vector<BoundMaterial> materials;  // parallel to Scene::materials
   std::vector<PassPlan> passes;
-  FrameUniforms frame;                   // main-pass camera and lights
-  ShadowSettings shadow;                 // lookups of every shadow pass
-  std::vector<std::string> skipped;      // passes not made, and why (for --explain)
+  FrameUniforms frame;               // main-pass camera and lights
+  ShadowSettings shadow;             // lookups of every shadow pass
+  std::vector<std::string> skipped;  // passes not made, and why (for --explain)
   // The main pass's instances in draw order: the OPAQUE and MASK ones in submission order, then
   // the BLEND ones back to front by the view depth of their bounds' centre (ties: submission
   // order). Both backends draw in this order.
   std::vector<int> draw_order;
-  std::string explain() const;           // human-readable plan, one line per decision
+  std::string explain() const;  // human-readable plan, one line per decision
 };
 
 Result<Plan> make_plan(const Scene& scene, const RenderOptions& options);
@@ -104,7 +104,7 @@ struct PreparedDraw {
   int instance = 0;
   int material = 0;
   std::vector<glm::vec4> clip;
-  std::vector<float> varyings;  // num_varyings per vertex
+  std::vector<float> varyings;         // num_varyings per vertex
   int num_varyings = varying::kCount;  // kCountExtended when the mesh has COLOR_0 or TEXCOORD_1
   const std::vector<uint32_t>* indices = nullptr;
 };
@@ -113,7 +113,7 @@ std::vector<PreparedDraw> prepare_draws(const Scene& scene, const glm::mat4& vie
 struct PassStats {
   std::string name;
   double ms = 0.0;
-  RasterStats raster;  // CPU backend
+  RasterStats raster;    // CPU backend
   double gpu_ms = -1.0;  // GL backend: GL_TIME_ELAPSED of the pass (-1: not measured)
   PassPlan::Kind kind = PassPlan::Kind::kMain;
   int light = -1;      // shadow passes: index into Scene::lights
@@ -121,7 +121,8 @@ struct PassStats {
   int resolution = 0;  // shadow passes: texels per side
 };
 
-// A shadow pass's stats before it runs: its name, kind, light, faces and resolution (both backends).
+// A shadow pass's stats before it runs: its name, kind, light, faces and resolution (both
+// backends).
 inline PassStats shadow_pass_stats(const PassPlan& pass) {
   PassStats stats;
   stats.name = pass.name;

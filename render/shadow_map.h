@@ -18,9 +18,9 @@
 #include <glm/mat4x4.hpp>
 #include <glm/vec3.hpp>
 
+#include "base/status.h"
 #include "plugins/plugin.h"
 #include "rasterizer/image.h"
-#include "base/status.h"
 #include "scene/scene.h"
 #include "shaders_cpp/shadow_map.h"
 

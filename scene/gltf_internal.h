@@ -21,9 +21,9 @@
 #include <glm/vec3.hpp>
 #include <nlohmann/json.hpp>
 
+#include "base/status.h"
 #include "plugins/plugin.h"
 #include "rasterizer/safe_file.h"
-#include "base/status.h"
 #include "scene/animation.h"
 #include "scene/image_io.h"
 #include "scene/scene.h"

@@ -9,8 +9,8 @@
 #include <string>
 #include <vector>
 
-#include "rasterizer/image.h"
 #include "base/status.h"
+#include "rasterizer/image.h"
 #include "rasterizer/texture.h"
 
 namespace relief {

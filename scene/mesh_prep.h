@@ -25,7 +25,7 @@
 
 namespace relief {
 
-void compute_normals(Mesh& mesh);      // area-weighted face normals where a mesh has none
+void compute_normals(Mesh& mesh);  // area-weighted face normals where a mesh has none
 void compute_tangents(Mesh& mesh);
 void compute_tile_scale(Mesh& mesh);
 

@@ -32,7 +32,9 @@ glm::mat4 ortho_reversed_z(float l, float r, float bottom, float top, float znea
   return m;
 }
 
-glm::mat4 Camera::view() const { return glm::lookAt(position, target, up); }
+glm::mat4 Camera::view() const {
+  return glm::lookAt(position, target, up);
+}
 
 glm::mat4 Camera::projection(float aspect) const {
   if (orthographic) {

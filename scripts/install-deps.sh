@@ -13,6 +13,7 @@ packages=(
   libcli11-dev
   libepoxy-dev libegl-dev libegl-mesa0 libgl1-mesa-dri libglx-mesa0
   clang-14 libclang-rt-14-dev  # libFuzzer targets (scripts/ci-fuzz.sh)
+  clang-format-14  # ctest format.SourcesMatchClangFormat (scripts/check-format.sh)
   chromium  # headless check of the `relief bench --report` page (tests/apps)
   slurmctld slurmd slurm-client munge  # scripts/slurm-test.sh: a one-node Slurm cluster
   dpkg-dev file  # `make package` (CPack's DEB generator runs dpkg-shlibdeps on the binary)

@@ -63,10 +63,11 @@ inline SearchHit<F> dual_depth_search(const Front& front, const Back& back, V2<F
     searching = searching & !in & !last;
   }
   F lo = t_out, hi = t_in;
-  bisect(lo, hi, found & (hi > lo), m, kPerStep, steps, fetches, [&](const F& mid, mask_t<F> refine) {
-    const V2<F> p = uv + ds * mid;
-    return dual_inside(sample_depth(front, p, refine), sample_depth(back, p, refine), mid);
-  });
+  bisect(lo, hi, found & (hi > lo), m, kPerStep, steps, fetches,
+         [&](const F& mid, mask_t<F> refine) {
+           const V2<F> p = uv + ds * mid;
+           return dual_inside(sample_depth(front, p, refine), sample_depth(back, p, refine), mid);
+         });
   miss = active & !found;
   const F t_hit = select(found, hi, F(0.0f));
   return {uv + ds * t_hit, t_hit, steps, fetches};

@@ -94,11 +94,11 @@ struct AxisWalk {
 }  // namespace
 
 struct HeightField::Query {
-  Line line;       // mapped line of the current segment, cell space
-  double z0, dz;   // ray depth at parameter p: z0 + dz p
-  bool shadow;     // false: first p with D <= z; true: any p with D - z < -bias
+  Line line;      // mapped line of the current segment, cell space
+  double z0, dz;  // ray depth at parameter p: z0 + dz p
+  bool shadow;    // false: first p with D <= z; true: any p with D - z < -bias
   double bias;
-  double hit_p;    // result (view)
+  double hit_p;  // result (view)
   int nodes = 0, cells = 0;
 };
 

@@ -75,9 +75,9 @@ class HeightField {
  private:
   struct Axis {
     bool periodic = true;
-    int size = 0;    // texels per uv unit
-    int period = 0;  // texels of the (expanded) field along this axis
-    int cells = 0;   // leaf cells along this axis
+    int size = 0;         // texels per uv unit
+    int period = 0;       // texels of the (expanded) field along this axis
+    int cells = 0;        // leaf cells along this axis
     double extent = 0.0;  // cell-space domain: [0, period) periodic, [0, size - 1] clamp
   };
   struct Line {
@@ -156,8 +156,8 @@ inline F exact_shadow(const HeightField& field, V2<F> uv, F t, V2<F> dl, F lz, f
       continue;
     }
     int nodes = 0, cells = 0;
-    bool sh = field.shadowed(lane(uv.x, i), lane(uv.y, i), lane(t, i), lane(dl.x, i),
-                             lane(dl.y, i), bias, &nodes, &cells);
+    bool sh = field.shadowed(lane(uv.x, i), lane(uv.y, i), lane(t, i), lane(dl.x, i), lane(dl.y, i),
+                             bias, &nodes, &cells);
     set_lane(vis, i, sh ? 0.0f : 1.0f);
     set_lane(st, i, static_cast<float>(nodes));
   }

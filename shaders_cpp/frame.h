@@ -20,7 +20,8 @@ HWY_BEFORE_NAMESPACE();
 namespace relief {
 namespace HWY_NAMESPACE {
 
-template <class F> struct TangentFrame {
+template <class F>
+struct TangentFrame {
   V3<F> t, b, n;  // orthonormal; t along +u, b along +v, n out of the surface
 
   V3<F> to_tangent(V3<F> w) const { return {dot(w, t), dot(w, b), dot(w, n)}; }
@@ -29,7 +30,8 @@ template <class F> struct TangentFrame {
 
 // Any unit vector perpendicular to unit n (Duff et al. 2017, "Building an orthonormal basis,
 // revisited"), used when the interpolated tangent is unusable.
-template <class F> inline V3<F> any_perpendicular(V3<F> n) {
+template <class F>
+inline V3<F> any_perpendicular(V3<F> n) {
   F sign = select(n.z >= F(0.0f), F(1.0f), F(-1.0f));
   F a = F(-1.0f) / (sign + n.z);
   F b = n.x * n.y * a;

@@ -2,8 +2,8 @@
 // gl/shaders/common.glsl is its GLSL twin and must stay line-for-line equivalent.
 //
 // Punctual lights follow glTF KHR_lights_punctual: directional lights have no falloff; point and
-// spot lights fall off as 1/d^2 with the range window clamp(1 - (d/range)^4, 0, 1)^2 when range > 0;
-// spot lights blend between the outer and inner cone cosines.
+// spot lights fall off as 1/d^2 with the range window clamp(1 - (d/range)^4, 0, 1)^2 when range >
+// 0; spot lights blend between the outer and inner cone cosines.
 
 #if defined(RELIEF_SHADERS_CPP_LIGHTING_H_) == defined(HWY_TARGET_TOGGLE)
 #ifdef RELIEF_SHADERS_CPP_LIGHTING_H_
@@ -23,7 +23,8 @@ HWY_BEFORE_NAMESPACE();
 namespace relief {
 namespace HWY_NAMESPACE {
 
-template <class F> struct LightSample {
+template <class F>
+struct LightSample {
   V3<F> l;         // unit direction from the point to the light
   V3<F> radiance;  // colour times attenuation
 };
@@ -56,10 +57,15 @@ inline LightSample<F> light_sample(const LightUniform& light, V3<F> p) {
   return s;
 }
 
-inline float pow_lane(float x, float e) { return std::pow(x, e); }
+inline float pow_lane(float x, float e) {
+  return std::pow(x, e);
+}
 // pow for the specular lobe: vpow_fast (shaders_cpp/lanes.h), written over F so the scalar and F8
 // paths agree bit for bit; relative error 3e-7 * max(1, |e log2 x|) against std::pow.
-template <class F> inline F vpow(F x, float e) { return vpow_fast(x, e); }
+template <class F>
+inline F vpow(F x, float e) {
+  return vpow_fast(x, e);
+}
 
 // Shades point p with unit normal n, seen from the eye along unit v (point -> eye).
 // visibility(i, l) returns the fraction of light i reaching p along l (self-shadow, shadow maps).
@@ -82,7 +88,8 @@ inline V3<F> blinn_phong(const FrameUniforms& frame, const MaterialUniforms& mat
   return c;
 }
 
-template <class F> struct NoShadow {
+template <class F>
+struct NoShadow {
   F operator()(int, V3<F>, mask_t<F>) const { return F(1.0f); }
 };
 

@@ -5,11 +5,12 @@
 // the lane type F: level choice, texel coordinates, weights and lerps run on all lanes at once.
 // Texel loads and sRGB table lookups are gathers (Highway's GatherOffset and GatherIndex) on the
 // SIMD targets that have them (AVX2, AVX-512) and lane by lane otherwise; both read the same
-// bytes, so the results are the same bits. It follows rasterizer/texture.cpp operation for operation (GL 4.5, section 8.14), so
-// textureLod equals sample_lod bit for bit; textureGrad takes its LOD from vlog2 (lanes.h), within
-// 1e-7 of std::log2. Other textures and filters call the scalar sampler per lane. float and the
-// lane types agree bit for bit either way. Kernels call the native-width sampler through the
-// out-of-line entries of shaders_cpp/sampling_simd.h. Per-target header (lanes.h says how).
+// bytes, so the results are the same bits. It follows rasterizer/texture.cpp operation for
+// operation (GL 4.5, section 8.14), so textureLod equals sample_lod bit for bit; textureGrad takes
+// its LOD from vlog2 (lanes.h), within 1e-7 of std::log2. Other textures and filters call the
+// scalar sampler per lane. float and the lane types agree bit for bit either way. Kernels call the
+// native-width sampler through the out-of-line entries of shaders_cpp/sampling_simd.h. Per-target
+// header (lanes.h says how).
 
 #if defined(RELIEF_SHADERS_CPP_SAMPLING_H_) == defined(HWY_TARGET_TOGGLE)
 #ifdef RELIEF_SHADERS_CPP_SAMPLING_H_
@@ -70,7 +71,7 @@ inline constexpr bool kHaveGather = true;
 inline constexpr bool kHaveGather = false;
 #endif
 template <class F>
-inline constexpr bool kHwyLanes = kHaveGather && std::is_same_v<F, FN>;
+inline constexpr bool kHwyLanes = kHaveGather&& std::is_same_v<F, FN>;
 
 #if HWY_ARCH_X86 && HWY_TARGET <= HWY_AVX2
 namespace hn = hwy::HWY_NAMESPACE;
@@ -89,14 +90,19 @@ inline hn::Vec<DI> to_hwy(const IN& x) {
   r.raw = reinterpret_cast<decltype(r.raw)>(x.v);
   return r;
 }
-inline FN from_hwy(hn::Vec<DF> x) { return FN(reinterpret_cast<vf_t<kLanes>>(x.raw)); }
-inline IN from_hwy(hn::Vec<DI> x) { return IN(reinterpret_cast<vi_t<kLanes>>(x.raw)); }
+inline FN from_hwy(hn::Vec<DF> x) {
+  return FN(reinterpret_cast<vf_t<kLanes>>(x.raw));
+}
+inline IN from_hwy(hn::Vec<DI> x) {
+  return IN(reinterpret_cast<vi_t<kLanes>>(x.raw));
+}
 #endif
 
 // vfloor of a texel coordinate (finite, from texel_coord): one rounding instruction on targets
 // that have it, which rounds down exactly as std::floor does for every value but NaN (quieted,
 // where vfloor passes the bits), which texel_coord never gives it.
-template <class F> [[gnu::always_inline]] inline F floor_coord(const F& x) {
+template <class F>
+[[gnu::always_inline]] inline F floor_coord(const F& x) {
 #if HWY_ARCH_X86 && HWY_TARGET <= HWY_AVX2
   if constexpr (kHwyLanes<F>) return from_hwy(hn::Floor(to_hwy(x)));
 #endif
@@ -232,18 +238,21 @@ template <class F>
 // Each lane's level size in texels (at least 1), and log2 of the width where the texture's sizes
 // are powers of two (rows are then addressed by a shift: a multiply is a long latency on the way
 // to the gather).
-template <class I> struct LevelSize {
+template <class I>
+struct LevelSize {
   I w, h, w_shift;
 };
 inline int width_log2(const Texture& t) {
   return std::countr_zero(static_cast<unsigned>(t.width()));
 }
-template <class I> inline LevelSize<I> level_size(const Texture& t, I lvl) {
+template <class I>
+inline LevelSize<I> level_size(const Texture& t, I lvl) {
   return {vmax(I(t.width()) >> lvl, I(1)), vmax(I(t.height()) >> lvl, I(1)),
           vmax(I(width_log2(t)) - lvl, I(0))};
 }
 // Row offset y * w of each lane: y << w_shift for power-of-two textures (the same value).
-template <class I> inline I row_offset(const I& y, const LevelSize<I>& size, bool pow2) {
+template <class I>
+inline I row_offset(const I& y, const LevelSize<I>& size, bool pow2) {
   if (!pow2) return y * size.w;
   if constexpr (is_lanes_v<decltype(to_float(y))>)
     return I(y.v << size.w_shift.v);
@@ -253,12 +262,14 @@ template <class I> inline I row_offset(const I& y, const LevelSize<I>& size, boo
 
 // Where a read at per-lane mip level `lvl` finds its texels: the level's sizes and word source.
 // A prepared read (RLodPlan, sampling_simd.h) computes it once for many reads.
-template <class I> struct LevelAccess {
+template <class I>
+struct LevelAccess {
   I lvl;
   LevelSize<I> size;
   WordSource src;
 };
-template <class F> inline LevelAccess<int_t<F>> level_access(const Texture& t, int_t<F> lvl) {
+template <class F>
+inline LevelAccess<int_t<F>> level_access(const Texture& t, int_t<F> lvl) {
   return {lvl, level_size(t, lvl), word_source<F>(t, lvl)};
 }
 
@@ -359,11 +370,13 @@ inline V4<F> lerp4(V4<F> p, V4<F> q, F f) {
 // The mip levels textureLod reads at lod (texture.cpp's sample_lod_impl, lane by lane): `lo`,
 // and for trilinear (or anisotropic without derivatives) `hi` weighted by f, f = 0 where one
 // level is exact. Nearest and bilinear filters read the level nearest to lod (f = 0).
-template <class F> struct LodLevels {
+template <class F>
+struct LodLevels {
   int_t<F> lo, hi;
   F f;
 };
-template <class F> inline LodLevels<F> lod_levels(int levels, Filter filter, F lod) {
+template <class F>
+inline LodLevels<F> lod_levels(int levels, Filter filter, F lod) {
   using I = int_t<F>;
   const int q = levels - 1;
   lod = vmin(vmax(select(lod == lod, lod, F(0.0f)), F(-64.0f)), F(64.0f));
@@ -432,7 +445,8 @@ inline F lod_from_grad(const Texture& t, V2<F> dx, V2<F> dy) {
 }
 
 // Lane i of r = c.
-template <class F> inline void set_lane4(V4<F>& r, int i, const glm::vec4& c) {
+template <class F>
+inline void set_lane4(V4<F>& r, int i, const glm::vec4& c) {
   set_lane(r.x, i, c.x);
   set_lane(r.y, i, c.y);
   set_lane(r.z, i, c.z);

@@ -17,8 +17,8 @@ namespace {
 // formats' code around it (measured: 9% fewer instructions a read than one entry for all).
 // flatten here and below: the read inlined into one function (speed only; plugins/shading.h).
 template <TexFormat kFmt>
-[[gnu::noinline]] RELIEF_LANE_FLATTEN FN r_lod_fmt(const Texture& t, const SamplerState& s, const V2<FN>& uv,
-                               const FN& lod) {
+[[gnu::noinline]] RELIEF_LANE_FLATTEN FN r_lod_fmt(const Texture& t, const SamplerState& s,
+                                                   const V2<FN>& uv, const FN& lod) {
   return detail::sample_lod_texels<kFmt, 1, FN>(t, s, uv, lod).x;
 }
 
@@ -27,8 +27,8 @@ template <TexFormat kFmt>
 template <TexFormat kFmt, bool kNearest>
 [[gnu::always_inline]] inline FN planned_level(const RLodPlan& p, const V2<FN>& uv, int k) {
   const RLodPlan::Level& l = p.level[k];
-  const detail::LevelAccess<IN> at{IN(l.lvl), {IN(l.size.w), IN(l.size.h), IN(l.size.w_shift)},
-                                   l.src};
+  const detail::LevelAccess<IN> at{
+      IN(l.lvl), {IN(l.size.w), IN(l.size.h), IN(l.size.w_shift)}, l.src};
   if constexpr (kNearest)
     return detail::nearest_at<kFmt, 1, FN>(*p.texture, p.sampler, uv, at, p.pow2).x;
   else
@@ -118,7 +118,8 @@ void prepare_r_lod(const Texture& t, const SamplerState& s, const float* lod, RL
 }
 
 RELIEF_LANE_FLATTEN V4<FN> texture_grad_lanes(const Texture& t, const SamplerState& s,
-                                           const V2<FN>& uv, const V2<FN>& dx, const V2<FN>& dy) {
+                                              const V2<FN>& uv, const V2<FN>& dx,
+                                              const V2<FN>& dy) {
   return texture_grad(t, s, uv, dx, dy);
 }
 

@@ -41,8 +41,8 @@ namespace relief {
 namespace HWY_NAMESPACE {
 
 // The first channel of `t` at uv with the lanes' LODs lod[0..lanes): the lane-parallel sampler,
-// for the native lanes FN through `plan` (sampling_simd.h: levels chosen once for the LODs, the read out of line),
-// bit-identical to sample_r_lod per lane.
+// for the native lanes FN through `plan` (sampling_simd.h: levels chosen once for the LODs, the
+// read out of line), bit-identical to sample_r_lod per lane.
 template <class F>
 inline F r_lod_lanes(const Texture& t, const SamplerState& s, const float* lod, V2<F> uv,
                      RLodPlan& plan) {
@@ -66,17 +66,18 @@ struct TextureDepth {
     return sample_r_lod(*texture, *sampler, glm::vec2(u, v), lod[lane]);
   }
   // All lanes through the lane-parallel sampler (bit-identical to operator() per lane).
-  template <class F> F lanes(V2<F> uv) const {
+  template <class F>
+  F lanes(V2<F> uv) const {
     return r_lod_lanes(*texture, *sampler, lod, uv, plan);
   }
 };
 
 template <class F>
 struct SearchHit {
-  V2<F> uv;     // hit texture coordinates (not wrapped)
-  F depth;      // ray depth at the hit, [0, 1]
-  F steps;      // search iterations, per lane
-  F fetches;    // depth samples, per lane
+  V2<F> uv;   // hit texture coordinates (not wrapped)
+  F depth;    // ray depth at the hit, [0, 1]
+  F steps;    // search iterations, per lane
+  F fetches;  // depth samples, per lane
 };
 
 // The bracket a linear search leaves for a refinement: the last sample outside (depth t_out,
@@ -107,7 +108,7 @@ inline F sample_depth(const Depth& depth, V2<F> uv, mask_t<F> active) {
 template <class F, class Depth>
 [[gnu::always_inline]] inline F paired_sample(const Depth& depth, bool fresh, const V2<F>& uv,
                                               const V2<F>& uv_next, mask_t<F> m, F& ahead) {
-  if constexpr (lane_width<F> > 1) {
+  if constexpr (lane_width < F >> 1) {
     if (!fresh) return select(m, ahead, F(0.0f));
     const F d = sample_depth(depth, uv, m);
     ahead = sample_depth(depth, uv_next, m);
@@ -129,8 +130,8 @@ inline F count(mask_t<F> m) {
 
 // Linear search with n steps per lane (n >= 1, a whole number; may differ per lane): samples depth
 // t_i = i / n for i = 0, 1, ..., n and stops at the first sample inside; t = 1 counts as inside
-// (D <= 1) whatever it reads. At most n + 1 steps and fetches. Returns the first inside sample as the hit; `bracket`
-// (optional) receives the last outside and first inside samples.
+// (D <= 1) whatever it reads. At most n + 1 steps and fetches. Returns the first inside sample as
+// the hit; `bracket` (optional) receives the last outside and first inside samples.
 template <class F, class Depth>
 inline SearchHit<F> linear_search(const Depth& depth, V2<F> uv, V2<F> ds, F n, mask_t<F> active,
                                   Bracket<F>* bracket = nullptr) {
@@ -175,7 +176,7 @@ inline SearchHit<F> linear_search(const Depth& depth, V2<F> uv, V2<F> ds, F n, m
 template <class F, class Inside>
 inline void bisect(F& lo, F& hi, mask_t<F> refine, int m, float fetches_per_step, F& steps,
                    F& fetches, const Inside& inside) {
-  constexpr bool kTwoPerRound = lane_width<F> > 1;
+  constexpr bool kTwoPerRound = lane_width < F >> 1;
   const F per_lane = detail::count<F>(refine);  // `refine` is fixed: so are the counts a step adds
   const F per_step = per_lane * F(fetches_per_step);
   for (int i = 0; i < m && any(refine); ++i) {

@@ -143,8 +143,8 @@ inline float shadow_lookup(const ShadowMapView& m, glm::vec3 p, glm::vec3 n, glm
 #include <glm/mat4x4.hpp>
 #include <glm/vec3.hpp>
 
-#include "shaders_cpp/uniforms.h"
 #include "shaders_cpp/lanes.h"
+#include "shaders_cpp/uniforms.h"
 #include "shaders_cpp/vec.h"
 
 #include <hwy/highway.h>
@@ -162,9 +162,10 @@ inline F shadow_map_visibility(const ShadowMapView& m, const V3<F>& p, const V3<
   const F vis = per_lane(F(0.0f), [&](int i) {
     if (!lane(active, i)) return 1.0f;
     float t = 0.0f;
-    const float v = relief::detail::shadow_lookup(m, glm::vec3(lane(p.x, i), lane(p.y, i), lane(p.z, i)),
-                                          glm::vec3(lane(n.x, i), lane(n.y, i), lane(n.z, i)),
-                                          glm::vec3(lane(l.x, i), lane(l.y, i), lane(l.z, i)), t);
+    const float v =
+        relief::detail::shadow_lookup(m, glm::vec3(lane(p.x, i), lane(p.y, i), lane(p.z, i)),
+                                      glm::vec3(lane(n.x, i), lane(n.y, i), lane(n.z, i)),
+                                      glm::vec3(lane(l.x, i), lane(l.y, i), lane(l.z, i)), t);
     set_lane(taps, i, t);
     return v;
   });

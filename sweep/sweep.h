@@ -40,9 +40,9 @@
 #include <utility>
 #include <vector>
 
+#include "base/status.h"
 #include "plugins/plugin.h"
 #include "rasterizer/image.h"
-#include "base/status.h"
 #include "rasterizer/texture.h"
 #include "scene/scene.h"
 

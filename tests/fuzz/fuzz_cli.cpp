@@ -68,9 +68,9 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
       for (int k = 0; k < p->num_params; ++k) {
         const relief::ParamSpec& spec = p->params[k];
         const float x = (*v)[k];
-        if (!(x == x) || (spec.type != relief::ParamType::kEnum &&
-                          spec.type != relief::ParamType::kBool &&
-                          (x < spec.min_value || x > spec.max_value)))
+        if (!(x == x) ||
+            (spec.type != relief::ParamType::kEnum && spec.type != relief::ParamType::kBool &&
+             (x < spec.min_value || x > spec.max_value)))
           __builtin_trap();  // a value outside the schema got through
       }
     }

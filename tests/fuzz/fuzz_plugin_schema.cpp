@@ -36,8 +36,12 @@ struct Reader {
   }
 };
 
-relief::ShadeFn select_none(relief::EffectMask) { return nullptr; }
-relief::DepthOutput depth_none(relief::EffectMask) { return relief::DepthOutput::kNone; }
+relief::ShadeFn select_none(relief::EffectMask) {
+  return nullptr;
+}
+relief::DepthOutput depth_none(relief::EffectMask) {
+  return relief::DepthOutput::kNone;
+}
 
 void one_line(const std::string& m) {
   if (m.find('\n') != std::string::npos) __builtin_trap();

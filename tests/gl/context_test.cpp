@@ -40,7 +40,8 @@ TEST(Context, ClipControlAndFloatTargetsWork) {
   glTextureStorage2D(tex[1], 1, GL_DEPTH_COMPONENT32F, 4, 4);
   glNamedFramebufferTexture(fbo, GL_COLOR_ATTACHMENT0, tex[0], 0);
   glNamedFramebufferTexture(fbo, GL_DEPTH_ATTACHMENT, tex[1], 0);
-  ASSERT_EQ(glCheckNamedFramebufferStatus(fbo, GL_DRAW_FRAMEBUFFER), GLenum(GL_FRAMEBUFFER_COMPLETE));
+  ASSERT_EQ(glCheckNamedFramebufferStatus(fbo, GL_DRAW_FRAMEBUFFER),
+            GLenum(GL_FRAMEBUFFER_COMPLETE));
   const float c[4] = {2.5f, -1.0f, 0.25f, 1.0f};
   glClearNamedFramebufferfv(fbo, GL_COLOR, 0, c);
   const float d = 0.0f;

@@ -13,8 +13,12 @@
 namespace relief {
 namespace {
 
-ShadeFn no_select(EffectMask) { return nullptr; }
-DepthOutput no_depth(EffectMask) { return DepthOutput::kNone; }
+ShadeFn no_select(EffectMask) {
+  return nullptr;
+}
+DepthOutput no_depth(EffectMask) {
+  return DepthOutput::kNone;
+}
 
 PluginDescriptor descriptor(const std::vector<ParamSpec>& params,
                             const std::vector<TextureSlotSpec>& slots = {}) {
@@ -52,7 +56,8 @@ TEST(Schema, MalformedParametersAreOneLineErrorsNamingThem) {
       {{"x", ParamType::kEnum, 0, 0, 2, nullptr, nullptr}, "'x': an enum needs choices"},
       {{"x", ParamType::kEnum, 3, 0, 3, "a|b", nullptr}, "'x': the default must index"},
       // fuzz_plugin_schema: a negative default passed and describe_params cast it to size_t
-      {{"x", ParamType::kEnum, -8.79609e12f, -1e13f, 1, "a|b", nullptr}, "'x': the default must index"},
+      {{"x", ParamType::kEnum, -8.79609e12f, -1e13f, 1, "a|b", nullptr},
+       "'x': the default must index"},
   };
   for (const Case& c : cases) {
     const std::vector<ParamSpec> params = {kGood, c.spec};
@@ -70,8 +75,10 @@ TEST(Schema, MalformedParametersAreOneLineErrorsNamingThem) {
 // fuzz_plugin_schema: a name with a newline made a multi-line error. Names are plain
 // identifiers, so every message that quotes one stays one printable line.
 TEST(Schema, NamesWithControlCharactersAreRefusedInOneLine) {
-  const std::vector<ParamSpec> bad_param = {kGood, {"a\nb", ParamType::kFloat, 0, 0, 1, nullptr, nullptr}};
-  const std::vector<ParamSpec> bad_choice = {kGood, {"mode", ParamType::kEnum, 0, 0, 1, "a|b\n", nullptr}};
+  const std::vector<ParamSpec> bad_param = {kGood,
+                                            {"a\nb", ParamType::kFloat, 0, 0, 1, nullptr, nullptr}};
+  const std::vector<ParamSpec> bad_choice = {kGood,
+                                             {"mode", ParamType::kEnum, 0, 0, 1, "a|b\n", nullptr}};
   const std::vector<TextureSlotSpec> bad_slot = {{"dep\nth", true, nullptr}};
   const std::vector<ParamSpec> good = {kGood};  // descriptors point into these vectors
   PluginDescriptor p1 = descriptor(bad_param), p2 = descriptor(bad_choice),

@@ -30,8 +30,8 @@ void count_shader(const void* user, const FragmentPacket& p, FragmentOutput& out
 // Screen position (pixels, y down) -> clip position with depth 0.5 and the given w.
 glm::vec4 to_clip(glm::dvec2 s, double w) {
   const double x = s.x / kW * 2.0 - 1.0, y = 1.0 - s.y / kH * 2.0;
-  return glm::vec4(static_cast<float>(x * w), static_cast<float>(y * w), static_cast<float>(0.5 * w),
-                   static_cast<float>(w));
+  return glm::vec4(static_cast<float>(x * w), static_cast<float>(y * w),
+                   static_cast<float>(0.5 * w), static_cast<float>(w));
 }
 
 std::vector<int> rasterize_count(ThreadPool& pool, const std::vector<glm::vec4>& clip,
@@ -69,7 +69,9 @@ int classify(const std::vector<glm::dvec2>& poly, glm::dvec2 p) {
   return (mn < -1e-6 && mx > 1e-6) ? 0 : -1;  // outside, or on the boundary
 }
 
-double snap(double v) { return std::round(v * 256.0) / 256.0; }
+double snap(double v) {
+  return std::round(v * 256.0) / 256.0;
+}
 
 TEST(Pipeline, WatertightRotatedGridsWithRandomW) {
   ThreadPool pool(2);
@@ -86,7 +88,8 @@ TEST(Pipeline, WatertightRotatedGridsWithRandomW) {
         glm::dvec2 p(-half + 2 * half * i / n, -half + 2 * half * j / n);
         const bool border = i == 0 || j == 0 || i == n || j == n;
         if (!border) p += glm::dvec2(jitter(rng), jitter(rng)) * (2 * half / n);
-        const glm::dvec2 r(p.x * std::cos(a) - p.y * std::sin(a), p.x * std::sin(a) + p.y * std::cos(a));
+        const glm::dvec2 r(p.x * std::cos(a) - p.y * std::sin(a),
+                           p.x * std::sin(a) + p.y * std::cos(a));
         screen.push_back({snap(c.x + r.x), snap(c.y + r.y)});
       }
     std::vector<glm::vec4> clip;
@@ -96,8 +99,10 @@ TEST(Pipeline, WatertightRotatedGridsWithRandomW) {
       for (int i = 0; i < n; ++i) {
         const uint32_t v = j * (n + 1) + i;
         // alternate diagonals and windings
-        if ((i + j) & 1) idx.insert(idx.end(), {v, v + 1, v + n + 2, v, v + n + 2, v + n + 1});
-        else idx.insert(idx.end(), {v, v + n + 1, v + 1, v + 1, v + n + 1, v + n + 2});
+        if ((i + j) & 1)
+          idx.insert(idx.end(), {v, v + 1, v + n + 2, v, v + n + 2, v + n + 1});
+        else
+          idx.insert(idx.end(), {v, v + n + 1, v + 1, v + 1, v + n + 1, v + n + 2});
       }
     const std::vector<glm::dvec2> outline = {screen[0], screen[n], screen[(n + 1) * (n + 1) - 1],
                                              screen[n * (n + 1)]};
@@ -162,7 +167,8 @@ TEST(Pipeline, WatertightAcrossTheNearPlane) {
     m[3][2] = n * fa / (fa - n);
     return m;
   }();
-  const glm::mat4 vp = proj * glm::lookAt(glm::vec3(0, 1, 0), glm::vec3(0, 0.2f, -3), glm::vec3(0, 1, 0));
+  const glm::mat4 vp =
+      proj * glm::lookAt(glm::vec3(0, 1, 0), glm::vec3(0, 0.2f, -3), glm::vec3(0, 1, 0));
   const int n = 12;
   std::vector<glm::vec4> clip;
   for (int j = 0; j <= n; ++j)
@@ -203,9 +209,9 @@ TEST(Pipeline, TopLeftRuleOnPixelCentres) {
   const glm::dvec2 p[4] = {{2.5, 2.5}, {6.5, 2.5}, {6.5, 6.5}, {2.5, 6.5}};
   std::vector<glm::vec4> clip;
   for (auto& s : p) clip.push_back(to_clip(s, 1.0));
-  for (const std::vector<uint32_t>& idx : {std::vector<uint32_t>{0, 1, 2, 0, 2, 3},
-                                           std::vector<uint32_t>{0, 2, 1, 0, 3, 2},
-                                           std::vector<uint32_t>{0, 1, 3, 1, 2, 3}}) {
+  for (const std::vector<uint32_t>& idx :
+       {std::vector<uint32_t>{0, 1, 2, 0, 2, 3}, std::vector<uint32_t>{0, 2, 1, 0, 3, 2},
+        std::vector<uint32_t>{0, 1, 3, 1, 2, 3}}) {
     const auto count = rasterize_count(pool, clip, idx);
     for (int y = 0; y < 10; ++y)
       for (int x = 0; x < 10; ++x) {
@@ -220,9 +226,9 @@ TEST(Pipeline, DegenerateTrianglesAreDroppedWithoutCrash) {
   const float nan = std::nanf("");
   const float inf = INFINITY;
   std::vector<glm::vec4> clip = {
-      {0, 0, 0.5f, 1}, {0.5f, 0, 0.5f, 1}, {1, 0, 0.5f, 1},          // collinear: zero area
-      {nan, 0, 0.5f, 1}, {0.5f, 0.5f, 0.5f, 1}, {0, 0.5f, 0.5f, 1},  // NaN
-      {inf, 0, 0.5f, 1}, {0, 0, 0.5f, 1}, {0, 0.3f, 0.5f, 1},         // Inf
+      {0, 0, 0.5f, 1},         {0.5f, 0, 0.5f, 1},     {1, 0, 0.5f, 1},     // collinear: zero area
+      {nan, 0, 0.5f, 1},       {0.5f, 0.5f, 0.5f, 1},  {0, 0.5f, 0.5f, 1},  // NaN
+      {inf, 0, 0.5f, 1},       {0, 0, 0.5f, 1},        {0, 0.3f, 0.5f, 1},  // Inf
       {-1e7f, -1e7f, 0.5f, 1}, {1e7f, -1e7f, 0.5f, 1}, {0, 1e7f, 0.5f, 1},  // huge: covers all
   };
   std::vector<uint32_t> idx = {0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 0, 1, 99};
@@ -244,7 +250,8 @@ TEST(Pipeline, PerspectiveCorrectInterpolation) {
   ThreadPool pool(2);
   // One triangle given by snapped screen positions and very different w; the exact answer is the
   // barycentric coordinate of the hit of the pixel's ray with the triangle in (x, y, w) space.
-  const glm::dvec2 s[3] = {{snap(5.3), snap(7.1)}, {snap(151.7), snap(20.2)}, {snap(40.4), snap(113.9)}};
+  const glm::dvec2 s[3] = {
+      {snap(5.3), snap(7.1)}, {snap(151.7), snap(20.2)}, {snap(40.4), snap(113.9)}};
   const double w[3] = {0.2, 3.7, 1.1};
   const float U[3] = {0.0f, 1.0f, 0.25f}, V[3] = {0.1f, 0.0f, 1.0f};
   std::vector<glm::vec4> clip;
@@ -361,14 +368,14 @@ TEST(Pipeline, EarlyAndLateDepthAgreeAndReversedZOrders) {
 
 TEST(Pipeline, BackFaceCulling) {
   ThreadPool pool(1);
-  std::vector<glm::vec4> clip = {{-0.5f, -0.5f, 0.5f, 1}, {0.5f, -0.5f, 0.5f, 1}, {0, 0.5f, 0.5f, 1}};
+  std::vector<glm::vec4> clip = {
+      {-0.5f, -0.5f, 0.5f, 1}, {0.5f, -0.5f, 0.5f, 1}, {0, 0.5f, 0.5f, 1}};
   std::vector<uint32_t> ccw = {0, 1, 2}, cw = {0, 2, 1};
   std::vector<float> vary;
   Solid s{{1, 1, 1, 1}};
-  for (auto [idx, cull, expect] : {std::tuple{&ccw, CullMode::kBack, true},
-                                   std::tuple{&cw, CullMode::kBack, false},
-                                   std::tuple{&ccw, CullMode::kFront, false},
-                                   std::tuple{&cw, CullMode::kNone, true}}) {
+  for (auto [idx, cull, expect] :
+       {std::tuple{&ccw, CullMode::kBack, true}, std::tuple{&cw, CullMode::kBack, false},
+        std::tuple{&ccw, CullMode::kFront, false}, std::tuple{&cw, CullMode::kNone, true}}) {
     DrawCall dc;
     dc.clip = clip;
     dc.varyings = vary;

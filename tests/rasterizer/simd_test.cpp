@@ -128,8 +128,8 @@ TEST(Simd, EveryTechniqueIsBitIdenticalAcrossLevels) {
       for (SimdLevel level : levels) {
         set_simd_level(level);
         const Framebuffer f = frames.frame(technique, false);
-        EXPECT_TRUE(identical(base, f)) << c.scene << " " << technique << " "
-                                        << simd_level_name(level);
+        EXPECT_TRUE(identical(base, f))
+            << c.scene << " " << technique << " " << simd_level_name(level);
         int covered = 0;
         for (float d : f.depth.values) covered += d > 0.0f;
         EXPECT_GT(covered, 240 * 136 / 10) << c.scene << " " << technique;

@@ -35,8 +35,8 @@ bool identical(const Framebuffer& a, const Framebuffer& b) {
 TEST(Recycle, AFrameOnRecycledBuffersEqualsOneOnFreshBuffers) {
   // room has a shadow-casting spot light, so its shadow maps are reused too; plane and pattern
   // leave different colour, depth and AOVs behind for the next frame to clear.
-  const Frame frames[] = {{"room", "relief"}, {"plane", "exact"}, {"room", "relief"},
-                          {"pattern", "flat"}, {"room", "pom"}, {"pattern", "relief"}};
+  const Frame frames[] = {{"room", "relief"},  {"plane", "exact"}, {"room", "relief"},
+                          {"pattern", "flat"}, {"room", "pom"},    {"pattern", "relief"}};
   auto reused = make_cpu_backend(2);
   for (const Frame& f : frames) {
     RenderResult fresh = render_with(*make_cpu_backend(2), f);

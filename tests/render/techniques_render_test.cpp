@@ -51,7 +51,9 @@ std::optional<Framebuffer> render(const Scene& scene, const std::string& techniq
 }
 
 // The registered techniques that search a depth map (a required `depth` texture slot).
-std::vector<std::string> relief_techniques() { return sweep::sweep_techniques(); }
+std::vector<std::string> relief_techniques() {
+  return sweep::sweep_techniques();
+}
 
 const Texture& depth_texture(const Scene& s) {
   return *s.materials[0].textures.at("depth");

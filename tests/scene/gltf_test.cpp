@@ -32,9 +32,7 @@ using json = nlohmann::json;
 
 class Gltf : public ::testing::Test {
  protected:
-  void SetUp() override {
-    dir_ = test::fresh_test_dir("relief_gltf");
-  }
+  void SetUp() override { dir_ = test::fresh_test_dir("relief_gltf"); }
   void TearDown() override { fs::remove_all(dir_); }
   std::string path(const std::string& name) const { return (dir_ / name).string(); }
 

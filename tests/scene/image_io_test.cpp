@@ -30,9 +30,7 @@ double srgb_decode(double c) {
 
 class ImageIo : public ::testing::Test {
  protected:
-  void SetUp() override {
-    dir_ = test::fresh_test_dir("relief_image_io");
-  }
+  void SetUp() override { dir_ = test::fresh_test_dir("relief_image_io"); }
   void TearDown() override { fs::remove_all(dir_); }
   std::string path(const std::string& name) const { return (dir_ / name).string(); }
   std::vector<std::string> listing() const {

@@ -32,7 +32,8 @@ inline void write_png_header_only(const std::string& path, uint32_t width, uint3
   const std::string ihdr = be32(width) + be32(height) + std::string{8, 0, 0, 0, 0};
   std::ofstream f(path, std::ios::binary);
   f << std::string("\x89PNG\r\n\x1a\n", 8) << png_chunk("IHDR", ihdr)
-    << png_chunk("IDAT", std::string("\x78\x9c\x03\x00\x00\x00\x00\x01", 8)) << png_chunk("IEND", "");
+    << png_chunk("IDAT", std::string("\x78\x9c\x03\x00\x00\x00\x00\x01", 8))
+    << png_chunk("IEND", "");
 }
 
 }  // namespace relief::testing

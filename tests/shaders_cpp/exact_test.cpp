@@ -27,10 +27,14 @@ FloatField sampled(int n, Wrap wrap, double (*fn)(double, double)) {
 }
 
 // A plane is reproduced exactly by bilinear interpolation between texel centres.
-double ramp(double u, double v) { return 0.1 + 0.5 * u + 0.3 * v; }
+double ramp(double u, double v) {
+  return 0.1 + 0.5 * u + 0.3 * v;
+}
 // |u - c| + |v - c| with its kinks on texel centres (n odd, c = 0.5) is a sum of 1D piecewise
 // linear functions, also reproduced exactly: a diamond pyramid with apex depth 0.05.
-double pyramid(double u, double v) { return 0.05 + 0.8 * (std::abs(u - 0.5) + std::abs(v - 0.5)); }
+double pyramid(double u, double v) {
+  return 0.05 + 0.8 * (std::abs(u - 0.5) + std::abs(v - 0.5));
+}
 
 // First root of pyramid(u0 + t dsx, v0 + t dsy) = t, piece by piece.
 double pyramid_hit(double u0, double v0, double dsx, double dsy) {

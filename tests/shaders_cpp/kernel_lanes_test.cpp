@@ -172,11 +172,12 @@ TEST(KernelLanes, DegenerateRaysAreFinite) {
         V2<float> ds = texture_step(V, scale);
         V2<float> uv(0.31f, 0.77f);
         float n = relief_step_count(V.z, 8.0f, 64.0f);
-        const SearchHit<float> hits[] = {
-            relief_search(f, uv, ds, n, 8, true), pom_search(f, uv, ds, n, true),
-            steep_parallax_search(f, uv, ds, n, true),
-            parallax_offset(f, uv, ds, V.z, false, true),
-            parallax_offset(f, uv, ds, V.z, true, true), exact_search(hf, uv, ds, true)};
+        const SearchHit<float> hits[] = {relief_search(f, uv, ds, n, 8, true),
+                                         pom_search(f, uv, ds, n, true),
+                                         steep_parallax_search(f, uv, ds, n, true),
+                                         parallax_offset(f, uv, ds, V.z, false, true),
+                                         parallax_offset(f, uv, ds, V.z, true, true),
+                                         exact_search(hf, uv, ds, true)};
         for (const SearchHit<float>& h : hits) {
           EXPECT_TRUE(std::isfinite(h.uv.x) && std::isfinite(h.uv.y)) << V.x << " " << scale;
           EXPECT_GE(h.depth, 0.0f);
@@ -186,7 +187,8 @@ TEST(KernelLanes, DegenerateRaysAreFinite) {
           }
         }
         V2<float> dl = light_step(V3<float>(-V.x, -V.y, -V.z), scale);
-        ShadowResult<float> s = self_shadow(f, hits[0].uv, hits[0].depth, dl, -V.z, 32, 1e-3f, true);
+        ShadowResult<float> s =
+            self_shadow(f, hits[0].uv, hits[0].depth, dl, -V.z, 32, 1e-3f, true);
         EXPECT_TRUE(s.visibility == 0.0f || s.visibility == 1.0f);
         float e = exact_shadow(hf, hits[5].uv, hits[5].depth, dl, -V.z, 1e-4f, true);
         EXPECT_TRUE(e == 0.0f || e == 1.0f);

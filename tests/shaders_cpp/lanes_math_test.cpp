@@ -63,11 +63,35 @@ TEST(LanesMath, PowMatchesLibmOnTheSpecularDomain) {
 
 // vfloor(F8) is written without a round instruction; it must still be std::floor bit for bit.
 TEST(LanesMath, F8FloorIsStdFloorBitForBit) {
-  std::vector<float> xs = {0.0f, -0.0f, 0.5f, -0.5f, 1.0f, -1.0f, 1.5f, -1.5f, 2.0f - 1e-7f,
-                           -2.0f + 1e-7f, 8388607.5f, -8388607.5f, 8388608.0f, -8388608.0f,
-                           16777217.0f, 1e30f, -1e30f, 1e-45f, -1e-45f, 1.17549435e-38f,
-                           -1.17549435e-38f, INFINITY, -INFINITY, NAN, -NAN, 2147483648.0f,
-                           -2147483904.0f, 0.99999994f, -0.99999994f};
+  std::vector<float> xs = {0.0f,
+                           -0.0f,
+                           0.5f,
+                           -0.5f,
+                           1.0f,
+                           -1.0f,
+                           1.5f,
+                           -1.5f,
+                           2.0f - 1e-7f,
+                           -2.0f + 1e-7f,
+                           8388607.5f,
+                           -8388607.5f,
+                           8388608.0f,
+                           -8388608.0f,
+                           16777217.0f,
+                           1e30f,
+                           -1e30f,
+                           1e-45f,
+                           -1e-45f,
+                           1.17549435e-38f,
+                           -1.17549435e-38f,
+                           INFINITY,
+                           -INFINITY,
+                           NAN,
+                           -NAN,
+                           2147483648.0f,
+                           -2147483904.0f,
+                           0.99999994f,
+                           -0.99999994f};
   std::mt19937 rng(7);
   std::uniform_real_distribution<float> wide(-1e7f, 1e7f), narrow(-4.0f, 4.0f);
   std::uniform_int_distribution<uint32_t> any_bits;

@@ -247,7 +247,6 @@ TEST(Quadric, ConvexGrazingRaysReturnAndAreDiscarded) {
                     .miss));
 }
 
-
 // search=relaxed_cone on a field at constant depth c, with the wide cones such a field has
 // (ratios 1 to 8): each step solves the ray's parabola against the cone exactly, so the gap to
 // the plane shrinks every step and within 64 steps the march reaches the analytic root of
@@ -272,12 +271,13 @@ TEST(Quadric, RelaxedConeSearchFindsTheAnalyticHitOnAConstantField) {
     const Ratio cone{ratio(rng)};
     const V3<float> V = view_at(ang(rng), az(rng));
     const V2<float> q(ab(rng), ab(rng));
-    const auto r = make_quadric_ray<QuadricDistance::kApproximate>(V, q, V2<float>(0.7f, 0.4f),
-                                                                    0.08f);
+    const auto r =
+        make_quadric_ray<QuadricDistance::kApproximate>(V, q, V2<float>(0.7f, 0.4f), 0.08f);
     const QuadricHit<float> h = quadric_relaxed_cone_search<QuadricDistance::kApproximate>(
         field, cone, V2<float>(0.2f, 0.6f), r, 64, 8, 24, 1.0f / 512.0f, true);
     const float k = r.alpha * r.dir.x * r.dir.x + r.beta * r.dir.y * r.dir.y;
-    const float t_ref = HWY_NAMESPACE::detail::smallest_positive_root(k, -r.dir.z, field.c, 3.0e38f);
+    const float t_ref =
+        HWY_NAMESPACE::detail::smallest_positive_root(k, -r.dir.z, field.c, 3.0e38f);
     const bool miss_ref = !(t_ref <= r.t_max);
     ASSERT_EQ(h.miss, miss_ref) << i << " t_ref " << t_ref << " t_max " << r.t_max;
     if (miss_ref) {
@@ -292,8 +292,7 @@ TEST(Quadric, RelaxedConeSearchFindsTheAnalyticHitOnAConstantField) {
         V3<F8>(F8(V.x), F8(V.y), F8(V.z)), V2<F8>(F8(q.x), F8(q.y)), V2<F8>(F8(0.7f), F8(0.4f)),
         F8(0.08f));
     const QuadricHit<F8> h8 = quadric_relaxed_cone_search<QuadricDistance::kApproximate>(
-        field, cone, V2<F8>(F8(0.2f), F8(0.6f)), r8, 64, 8, 24, F8(1.0f / 512.0f),
-        true_mask<F8>());
+        field, cone, V2<F8>(F8(0.2f), F8(0.6f)), r8, 64, 8, 24, F8(1.0f / 512.0f), true_mask<F8>());
     EXPECT_EQ(lane(h8.t, 5), h.t);
     EXPECT_EQ(lane(h8.miss, 5), h.miss);
     EXPECT_EQ(lane(h8.hit.steps, 5), h.hit.steps);
@@ -318,8 +317,8 @@ TEST(Quadric, ConservativeConesNeverPassTheFirstHitOnTheDeformedField) {
   for (int i = 0; i < 1500; ++i) {
     const V3<float> V = view_at(ang(rng), az(rng));
     const V2<float> q(ab(rng), ab(rng));
-    const auto r = make_quadric_ray<QuadricDistance::kApproximate>(V, q, V2<float>(0.5f, 0.8f),
-                                                                    0.1f);
+    const auto r =
+        make_quadric_ray<QuadricDistance::kApproximate>(V, q, V2<float>(0.5f, 0.8f), 0.1f);
     const V2<float> uv(0.3f, 0.7f);
     const QuadricHit<float> ref =
         quadric_search<QuadricDistance::kApproximate>(Hills(), uv, r, 4096.0f, 30, true);

@@ -10,7 +10,9 @@
 namespace relief {
 namespace {
 
-bool finite3(V3<float> v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
+bool finite3(V3<float> v) {
+  return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
+}
 
 void expect_orthonormal(const TangentFrame<float>& f) {
   ASSERT_TRUE(finite3(f.t) && finite3(f.b) && finite3(f.n));
@@ -35,7 +37,7 @@ TEST(Ray, GramSchmidtFrame) {
   const float nan = std::numeric_limits<float>::quiet_NaN();
   const V3<float> zero(0.0f, 0.0f, 0.0f), z(0.0f, 0.0f, 1.0f), x(1.0f, 0.0f, 0.0f);
   expect_orthonormal(orthonormal_frame(zero, zero, zero));
-  expect_orthonormal(orthonormal_frame(z, z, z));                 // T parallel to N
+  expect_orthonormal(orthonormal_frame(z, z, z));  // T parallel to N
   expect_orthonormal(orthonormal_frame(z, V3<float>(nan, 0.0f, 0.0f), x));
   expect_orthonormal(orthonormal_frame(V3<float>(nan, nan, nan), x, z));
   expect_orthonormal(orthonormal_frame(V3<float>(1e-30f, 0.0f, 0.0f), x, z));

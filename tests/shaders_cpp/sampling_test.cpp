@@ -40,8 +40,8 @@ TEST(Sampling, TextureLodMatchesSampleLodBitForBit) {
     for (ColorSpace cs : {ColorSpace::kLinear, ColorSpace::kSRGB})
       for (auto [w, h] : {std::pair{64, 32}, std::pair{37, 20}, std::pair{1, 1}}) {
         const Texture t = random_texture(f, w, h, cs, static_cast<uint32_t>(w * 31 + h));
-        for (Filter filter : {Filter::kNearest, Filter::kBilinear, Filter::kTrilinear,
-                              Filter::kAnisotropic})
+        for (Filter filter :
+             {Filter::kNearest, Filter::kBilinear, Filter::kTrilinear, Filter::kAnisotropic})
           for (Wrap wu : {Wrap::kRepeat, Wrap::kClamp})
             for (Wrap wv : {Wrap::kRepeat, Wrap::kClamp}) {
               SamplerState s;
@@ -160,7 +160,7 @@ TEST(Sampling, PlannedReadMatchesTextureRLodBitForBit) {
             float lod[8];
             const float a = lodd(rng), b = n % 3 == 0 ? lodd(rng) : a + 0.01f;
             for (int i = 0; i < 8; ++i) lod[i] = i < 4 ? a : b;  // one LOD per quad
-            for (int r = 0; r < 4; ++r) {  // several reads through one plan
+            for (int r = 0; r < 4; ++r) {                        // several reads through one plan
               V2<F8> uv;
               for (int i = 0; i < 8; ++i) {
                 uv.x.set(i, uvd(rng));

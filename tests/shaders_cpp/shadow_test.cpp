@@ -38,10 +38,10 @@ TEST(Shadow, WallShadowsFloorBehindIt) {
   ASSERT_EQ(t, 1.0f);
   const float s2 = std::sqrt(0.5f);
   const Case cases[] = {
-      {V3<float>(-s2, 0.0f, s2), true},     // light behind the wall
-      {V3<float>(0.0f, 0.0f, 1.0f), false},  // overhead
-      {V3<float>(s2, 0.0f, s2), false},      // from the open side
-      {V3<float>(0.0f, s2, s2), false},      // along the wall
+      {V3<float>(-s2, 0.0f, s2), true},          // light behind the wall
+      {V3<float>(0.0f, 0.0f, 1.0f), false},      // overhead
+      {V3<float>(s2, 0.0f, s2), false},          // from the open side
+      {V3<float>(0.0f, s2, s2), false},          // along the wall
       {V3<float>(-0.99f, 0.0f, -0.141f), true},  // below the horizon
   };
   for (const Case& c : cases) {

@@ -35,8 +35,8 @@ TEST(TextureDepth, MatchesFloatSamplerAndExact) {
     double sum = 0.0;
     for (int k = 0; k < 500; ++k) {
       testing::RandomRay r = testing::random_ray(rng, 70.0f, 0.02f, 0.1f);
-      SearchHit<float> h = relief_search(depth, V2<float>(r.u, r.v), V2<float>(r.dsx, r.dsy),
-                                         128.0f, 8, true);
+      SearchHit<float> h =
+          relief_search(depth, V2<float>(r.u, r.v), V2<float>(r.dsx, r.dsy), 128.0f, 8, true);
       ExactHit e = hf.intersect(r.u, r.v, r.dsx, r.dsy);
       EXPECT_GE(h.depth, e.t - 1e-5);
       sum += std::hypot((h.uv.x - e.u) * f.w, (h.uv.y - e.v) * f.h);

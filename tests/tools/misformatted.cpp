@@ -1,0 +1,2 @@
+// Fixture of ctest format.CheckCatchesAMisformattedFile: scripts/check-format.sh must reject it.
+int  misformatted( ){return 1;}
