@@ -3,8 +3,8 @@
 
 #include "apps/commands.h"
 #include "apps/scene_source.h"
+#include "builtin/builtin.h"
 #include "plugins/registry.h"
-#include "scene/builtin.h"
 
 namespace relief::cli {
 namespace {

@@ -23,11 +23,13 @@
 #include "apps/output.h"
 #include "apps/scene_source.h"
 #include "apps/version.h"
+#include "gl/gl_backend.h"
 #include "plugins/registry.h"
 #include "rasterizer/output_file.h"
 #include "rasterizer/safe_file.h"
 #include "render/derived_maps.h"
 #include "render/render.h"
+#include "render/renderer.h"
 #include "scene/animation.h"
 #include "scene/image_io.h"
 
@@ -69,33 +71,21 @@ struct RenderArgs {
   bool strict = false;
 };
 
-// The derived maps (cone maps) one frame's plan asked for: the counters' growth over make_plan.
-struct BakeStats {
-  int baked = 0, memory_hits = 0, disk_hits = 0;
-  double bake_ms = 0.0, cache_ms = 0.0;
-  static BakeStats since(const DerivedMapCounters& before) {
-    const DerivedMapCounters now = derived_map_counters();
-    return {now.baked - before.baked, now.memory_hits - before.memory_hits,
-            now.disk_hits - before.disk_hits, now.bake_ms - before.bake_ms,
-            now.cache_ms - before.cache_ms};
-  }
-  int cached() const { return memory_hits + disk_hits; }
-  nlohmann::json json() const {
-    return {{"ms", bake_ms},
-            {"cache_ms", cache_ms},
-            {"baked", baked},
-            {"memory_cache_hits", memory_hits},
-            {"disk_cache_hits", disk_hits}};
-  }
-};
+// The derived maps (cone maps) one frame's plan baked or found in the cache, for --stats.
+nlohmann::json bake_json(const BakeStats& bake) {
+  return {{"ms", bake.bake_ms},
+          {"cache_ms", bake.cache_ms},
+          {"baked", bake.baked},
+          {"memory_cache_hits", bake.memory_hits},
+          {"disk_cache_hits", bake.disk_hits}};
+}
 
-nlohmann::json stats_json(const RenderResult& r, const std::string& scene,
-                          const RenderOptions& opt) {
+nlohmann::json stats_json(const RenderResult& r, const std::string& scene, int width, int height) {
   nlohmann::json j;
   j["build"] = build_info_json();
   j["scene"] = scene;
-  j["width"] = opt.width;
-  j["height"] = opt.height;
+  j["width"] = width;
+  j["height"] = height;
   j["device"] = r.device;
   j["frame_ms"] = r.frame_ms;
   j["compile_ms"] = r.compile_ms;
@@ -348,38 +338,42 @@ double ms_since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
 }
 
-int do_render(const RenderArgs& a) {
-  // The scene path first: "scenes: is a directory" before any question about the outputs.
-  const std::string scene_name = a.scene.empty() ? default_scene_source() : a.scene;
-  if (Status cs = check_scene_source(scene_name); !cs.ok())
-    return fail(cs.message(), cs.exit_code());
-  if (a.output.empty()) return fail("--output is required (e.g. -o frame.png)", 2);
-  RenderOptions opt;
-  Status s = parse_size(a.size, opt.width, opt.height);
-  if (!s.ok()) return fail(s.message(), s.exit_code());
-  if (a.threads < 0 || a.threads > 256) return fail("--threads: expected 0..256", 2);
-  if (a.tile_size < 8 || a.tile_size > 512 || a.tile_size % 2)
-    return fail("--tile-size: expected an even number in 8..512", 2);
-  opt.threads = a.threads;
-  opt.tile_size = a.tile_size;
-  opt.technique = a.technique;
-  opt.scalar_lanes = a.scalar;
-  opt.shadows = !a.no_shadows;
-  opt.self_shadow = !a.no_self_shadow;
-  opt.shadow = a.shadow;
-  opt.count_work = !a.stats.empty();  // the GL backend counts only when asked
-  for (const std::string& kv : a.params) {
+// Everything `relief render` knows before it loads the scene, checked in the order the errors are
+// reported.
+struct RenderJob {
+  std::string scene_name;
+  RenderOptions opt;  // at the supersampled size (k times the output's)
+  BackendConfig backend;
+  OutputNames names;
+  FrameList list{{0}};
+  bool named = false;  // --frames given: output names take the frame pattern
+  Shard shard;
+  int spp = 1;
+  int k = 1;  // supersampling grid side
+  float exposure = 0.0f;
+  OutputAlpha alpha_mode = OutputAlpha::kNone;
+  std::vector<int> frames;  // this shard's
+  bool skip_existing = false;
+};
+
+// --param key=value into opt.params.
+Status parse_params(const std::vector<std::string>& params, RenderOptions& opt) {
+  for (const std::string& kv : params) {
     const size_t eq = kv.find('=');
     if (eq == std::string::npos || eq == 0)
-      return fail("--param: expected key=value, got '" + kv + "'", 2);
+      return Status::usage("--param: expected key=value, got '" + kv + "'");
     opt.params[kv.substr(0, eq)] = kv.substr(eq + 1);
   }
-  OutputNames names{a.output, {}, a.stats};
-  for (const std::string& kv : a.aovs) {
+  return {};
+}
+
+// --aov NAME=FILE into opt.aovs and names.aovs.
+Status parse_aovs(const std::vector<std::string>& aovs, RenderOptions& opt, OutputNames& names) {
+  for (const std::string& kv : aovs) {
     const size_t eq = kv.find('=');
     const std::string name = kv.substr(0, eq);
     if (eq == std::string::npos || eq + 1 >= kv.size())
-      return fail("--aov: expected NAME=FILE, got '" + kv + "'", 2);
+      return Status::usage("--aov: expected NAME=FILE, got '" + kv + "'");
     bool known = name == "depth";
     for (int i = 0; i < kAovCount; ++i)
       if (name == kAovNames[i]) {
@@ -387,167 +381,207 @@ int do_render(const RenderArgs& a) {
         opt.aovs |= aov_bit(static_cast<Aov>(i));
       }
     if (!known)
-      return fail("--aov: unknown AOV '" + name + "' (depth, uv, hit_depth, steps, normal)", 2);
+      return Status::usage("--aov: unknown AOV '" + name +
+                           "' (depth, uv, hit_depth, steps, normal)");
     if (names.aovs.count(name))
-      return fail("--aov: '" + name + "' is given twice (one file per AOV)", 2);
+      return Status::usage("--aov: '" + name + "' is given twice (one file per AOV)");
     names.aovs[name] = kv.substr(eq + 1);
   }
-  // Frames, shards, samples, exposure: all checked before anything renders.
-  FrameList list{{0}};
-  const bool named = !a.frames.empty();  // output names take the frame pattern
-  if (named) {
+  return {};
+}
+
+// Size, threads, tile size, technique, effects, parameters and AOVs.
+Status parse_frame_options(const RenderArgs& a, RenderJob& job) {
+  RenderOptions& opt = job.opt;
+  RELIEF_RETURN_IF_ERROR(parse_size(a.size, opt.width, opt.height));
+  if (a.threads < 0 || a.threads > 256) return Status::usage("--threads: expected 0..256");
+  if (a.tile_size < 8 || a.tile_size > 512 || a.tile_size % 2)
+    return Status::usage("--tile-size: expected an even number in 8..512");
+  job.backend.threads = a.threads;
+  job.backend.tile_size = a.tile_size;
+  job.backend.gpu = a.gpu;
+  job.backend.count_work = !a.stats.empty();  // the GL backend counts only when asked
+  opt.technique = a.technique;
+  opt.scalar_lanes = a.scalar;
+  opt.shadows = !a.no_shadows;
+  opt.self_shadow = !a.no_self_shadow;
+  opt.shadow = a.shadow;
+  RELIEF_RETURN_IF_ERROR(parse_params(a.params, opt));
+  job.names = OutputNames{a.output, {}, a.stats};
+  return parse_aovs(a.aovs, opt, job.names);
+}
+
+// Frames, shards, samples, exposure, alpha, fps, backend and the output files: all checked before
+// anything renders.
+Status parse_frames_and_outputs(const RenderArgs& a, RenderJob& job) {
+  job.named = !a.frames.empty();
+  if (job.named) {
     Result<FrameList> r = parse_frames(a.frames);
-    if (!r.ok()) return fail(r.status().message(), 2);
-    list = std::move(r).value();
+    if (!r.ok()) return Status::usage(r.status().message());
+    job.list = std::move(r).value();
   }
-  Shard shard;
   if (!a.shard.empty()) {
-    if (!named) return fail("--shard: needs --frames (the list to split)", 2);
+    if (!job.named) return Status::usage("--shard: needs --frames (the list to split)");
     Result<Shard> r = parse_shard(a.shard);
-    if (!r.ok()) return fail(r.status().message(), 2);
-    shard = *r;
+    if (!r.ok()) return Status::usage(r.status().message());
+    job.shard = *r;
   }
   Result<int> spp = parse_spp(a.spp);
-  if (!spp.ok()) return fail(spp.status().message(), 2);
-  const int k = static_cast<int>(std::lround(std::sqrt(*spp)));
+  if (!spp.ok()) return Status::usage(spp.status().message());
+  job.spp = *spp;
+  const int k = job.k = static_cast<int>(std::lround(std::sqrt(*spp)));
+  const RenderOptions& opt = job.opt;
   if (static_cast<long long>(opt.width) * k > kMaxTargetSize ||
       static_cast<long long>(opt.height) * k > kMaxTargetSize ||
       static_cast<long long>(opt.width) * opt.height * k * k > kMaxTargetPixels)
-    return fail("--spp: " + a.spp + " samples at " + a.size + " render " +
-                    std::to_string(opt.width * k) + "x" + std::to_string(opt.height * k) +
-                    ", over the limit of " + std::to_string(kMaxTargetSize) + " a side and " +
-                    std::to_string(kMaxTargetPixels) + " pixels",
-                2);
+    return Status::usage("--spp: " + a.spp + " samples at " + a.size + " render " +
+                         std::to_string(opt.width * k) + "x" + std::to_string(opt.height * k) +
+                         ", over the limit of " + std::to_string(kMaxTargetSize) + " a side and " +
+                         std::to_string(kMaxTargetPixels) + " pixels");
   Result<float> exposure = parse_exposure(a.exposure);
-  if (!exposure.ok()) return fail(exposure.status().message(), 2);
-  OutputAlpha alpha_mode = OutputAlpha::kNone;
-  s = parse_output_alpha(a.alpha, alpha_mode);
-  if (!s.ok()) return fail(s.message(), 2);
+  if (!exposure.ok()) return Status::usage(exposure.status().message());
+  job.exposure = *exposure;
+  Status s = parse_output_alpha(a.alpha, job.alpha_mode);
+  if (!s.ok()) return Status::usage(s.message());
   if (!(a.fps > 0.0 && a.fps <= 1000.0))
-    return fail("--fps: expected a number of frames per second in (0, 1000]", 2);
+    return Status::usage("--fps: expected a number of frames per second in (0, 1000]");
   if (a.backend != "cpu" && a.backend != "gl")
-    return fail("--backend: expected cpu or gl, got '" + a.backend + "'", 2);
-  s = names.check(named && list.count() > 1);
-  if (!s.ok()) return fail(s.message(), 2);
-  const std::vector<int> frames = shard_frames(list, shard);
-  s = names.check_files(frames, named);
-  if (!s.ok()) return fail(s.message(), s.exit_code());
-  opt.width *= k;
-  opt.height *= k;
-  const bool skip_existing = a.skip_existing || a.placeholder;
-  FILE* const human = a.log_json ? stderr : stdout;  // --log-json keeps stdout for JSON lines
-  if (skip_existing && !frames.empty() && std::all_of(frames.begin(), frames.end(), [&](int f) {
-        return skip_reason(frame_outputs(names, named, f), a.placeholder) != nullptr;
-      })) {  // nothing to render: not even the scene is loaded
-    for (int f : frames)
-      if (a.log_json) {
-        const std::vector<std::string> files = frame_outputs(names, named, f);
-        log_frame(f, "skipped", files, 0.0, {{"reason", skip_reason(files, a.placeholder)}});
-      }
-    if (!a.quiet)
-      std::fprintf(human,
-                   "%zu frame%s (%d-%d, shard %d/%d): rendered 0, skipped %zu (outputs there "
-                   "or claimed)\n",
-                   frames.size(), frames.size() == 1 ? "" : "s", frames.front(), frames.back(),
-                   shard.index, shard.count, frames.size());
+    return Status::usage("--backend: expected cpu or gl, got '" + a.backend + "'");
+  s = job.names.check(job.named && job.list.count() > 1);
+  if (!s.ok()) return Status::usage(s.message());
+  job.frames = shard_frames(job.list, job.shard);
+  return job.names.check_files(job.frames, job.named);
+}
+
+Result<RenderJob> make_render_job(const RenderArgs& a) {
+  RenderJob job;
+  // The scene path first: "scenes: is a directory" before any question about the outputs.
+  job.scene_name = a.scene.empty() ? default_scene_source() : a.scene;
+  RELIEF_RETURN_IF_ERROR(check_scene_source(job.scene_name));
+  if (a.output.empty()) return Status::usage("--output is required (e.g. -o frame.png)");
+  RELIEF_RETURN_IF_ERROR(parse_frame_options(a, job));
+  RELIEF_RETURN_IF_ERROR(parse_frames_and_outputs(a, job));
+  job.opt.width *= job.k;
+  job.opt.height *= job.k;
+  job.skip_existing = a.skip_existing || a.placeholder;
+  return job;
+}
+
+// The frames of a `relief render` run, one after the other, through one Renderer.
+class FrameLoop {
+ public:
+  FrameLoop(const RenderArgs& a, const RenderJob& job, Scene& scene, Renderer& renderer,
+            std::vector<GltfIgnored> ignored)
+      : a_(a),
+        job_(job),
+        scene_(scene),
+        renderer_(renderer),
+        ignored_(std::move(ignored)),
+        human_(a.log_json ? stderr : stdout),
+        progress_(job.frames.size(), a.quiet),
+        bake_progress_(a.quiet, progress_) {}
+
+  // Poses every frame's scene, renders it and writes its outputs; the exit code.
+  int run(const PoseOptions& pose) {
+    pose_ = pose;
+    anim_ = scene_.animation;
+    const bool has_clips = anim_ && !anim_->clips.empty();
+    // Turntable: with --frames when the scene has no animation (or with --turntable). The angle
+    // is the frame's place in the whole list's span, so every shard and rerun agrees.
+    turntable_ = job_.named && (a_.turntable || !has_clips);
+    glm::dvec3 lo, hi;
+    scene_bounds(scene_, lo, hi);
+    centre_ = (lo + hi) * 0.5;
+    loaded_cameras_ = scene_.cameras;
+    const auto run_t0 = std::chrono::steady_clock::now();
+    for (size_t fi = 0; fi < job_.frames.size(); ++fi)
+      if (const int rc = frame(fi); rc != 0) return rc;
+    progress_.clear();  // the summary gets a line of its own
+    summary(run_t0);
     return 0;
   }
 
-  for (const std::string& p : a.plugins) {
-    Status ls = load_plugin_arg(p);
-    if (!ls.ok()) return fail(ls.message(), ls.exit_code());
-  }
-
-  std::vector<GltfIgnored> ignored;
-  Result<Scene> scene =
-      load_scene_source(scene_name, a.allow_outside_scene_dir, a.strict, &ignored);
-  if (!scene.ok()) return fail(scene.status().message(), scene.status().exit_code());
-  Result<int> camera = resolve_camera(*scene, a.camera);
-  if (!camera.ok()) return fail(camera.status().message(), camera.status().exit_code());
-  opt.camera = *camera;
-  Result<int> clip = resolve_clip(*scene, a.animation);
-  if (!clip.ok()) return fail(clip.status().message(), clip.status().exit_code());
-  const std::shared_ptr<const SceneAnimation> anim = scene->animation;
-  const bool has_clips = anim && !anim->clips.empty();
-  // Turntable: with --frames when the scene has no animation (or with --turntable). The angle is
-  // the frame's place in the whole list's span, so every shard and rerun agrees.
-  const bool turntable = named && (a.turntable || !has_clips);
-  glm::dvec3 lo, hi;
-  scene_bounds(*scene, lo, hi);
-  const glm::dvec3 centre = (lo + hi) * 0.5;
-  PoseOptions pose;
-  pose.clip = *clip;
-  pose.technique = a.technique;
-
-  Result<std::unique_ptr<Backend>> backend = make_backend(a.backend, opt.threads, a.gpu);
-  if (!backend.ok()) return fail(backend.status().message(), backend.status().exit_code());
-  if (frames.empty()) {
-    if (!a.quiet)
-      std::fprintf(a.log_json ? stderr : stdout, "shard %d/%d: no frames (the list has %d)\n",
-                   shard.index, shard.count, list.count());
-    return 0;
-  }
-  const float exposure_scale = std::exp2(*exposure);
-  const std::vector<Camera> loaded_cameras = scene->cameras;
-  Progress progress(frames.size(), a.quiet);
-  BakeProgress bake_progress(a.quiet, progress);
-  std::vector<double> frame_ms;
-  int skipped = 0;
-  const auto run_t0 = std::chrono::steady_clock::now();
-  for (size_t fi = 0; fi < frames.size(); ++fi) {
-    const int f = frames[fi];
+ private:
+  // One frame: skipped, or posed, rendered and written.
+  int frame(size_t fi) {
+    const int f = job_.frames[fi];
     const auto t0 = std::chrono::steady_clock::now();
-    const std::vector<std::string> files = frame_outputs(names, named, f);
+    const std::vector<std::string> files = frame_outputs(job_.names, job_.named, f);
     // A failed frame: its JSON line, then the one error line on stderr.
     auto frame_failed = [&](const Status& st) {
-      progress.clear();
-      if (a.log_json) log_frame(f, "failed", files, ms_since(t0), {{"error", st.message()}});
+      progress_.clear();
+      if (a_.log_json) log_frame(f, "failed", files, ms_since(t0), {{"error", st.message()}});
       return fail(st.message(), st.exit_code());
     };
     Claim claim;
-    if (skip_existing) {
-      const char* why = skip_reason(files, a.placeholder);
-      if (!why && a.placeholder) {
-        Result<bool> took = claim.take(files[0]);
-        if (!took.ok()) return frame_failed(took.status());
-        // Not taken: another run claimed it since (or the image is there but another output is
-        // not, deleted since: then it is rendered again).
-        if (!*took && output_empty(files[0])) why = "claimed";
-      }
-      if (why) {
-        ++skipped;
-        if (a.log_json) log_frame(f, "skipped", files, ms_since(t0), {{"reason", why}});
-        progress.draw(fi + 1);
-        continue;
+    if (job_.skip_existing) {
+      Result<const char*> why = skip_or_claim(files, claim);
+      if (!why.ok()) return frame_failed(why.status());
+      if (*why) {
+        ++skipped_;
+        if (a_.log_json) log_frame(f, "skipped", files, ms_since(t0), {{"reason", *why}});
+        progress_.draw(fi + 1);
+        return 0;
       }
     }
-    const double time_s = f / a.fps;
-    if (turntable) scene->cameras[opt.camera] = loaded_cameras[opt.camera];
-    PoseStats ps;
-    if (anim) ps = pose_scene(*anim, pose, time_s, *scene);
-    if (turntable) {
-      const double angle = 2.0 * M_PI * (f - list.first()) / (list.last() - list.first() + 1);
-      scene->cameras[opt.camera] = orbit_camera(scene->cameras[opt.camera], centre, angle);
+    const double time_s = f / a_.fps;
+    const PoseStats ps = pose_frame(f, time_s);
+    Result<Frame> fr = renderer_.render(scene_, job_.opt);
+    if (!fr.ok()) return frame_failed(fr.status());
+    if (a_.explain && fi == 0) {
+      std::fprintf(human_, "%s", fr->plan.explain().c_str());
+      std::fprintf(human_, "%s",
+                   explain_ignored(scene_, ignored_, is_scene_path(job_.scene_name)).c_str());
     }
-    const DerivedMapCounters counters = derived_map_counters();
-    Result<Plan> plan = make_plan(*scene, opt);
-    const BakeStats bake = BakeStats::since(counters);
-    if (!plan.ok()) return frame_failed(plan.status());
-    if (a.explain && fi == 0) {
-      std::fprintf(human, "%s", plan->explain().c_str());
-      std::fprintf(human, "%s",
-                   explain_ignored(*scene, ignored, is_scene_path(scene_name)).c_str());
-    }
-    Result<RenderResult> r = (*backend)->render(*scene, *plan, opt);
-    if (!r.ok()) return frame_failed(r.status());
     const auto t_out = std::chrono::steady_clock::now();
+    Status s = write_outputs(*fr, files, f, time_s, ps, claim);
+    if (!s.ok()) return frame_failed(s);
+    const double output_ms = ms_since(t_out), total_ms = ms_since(t0);
+    frame_ms_.push_back(total_ms);
+    progress_.clear();
+    report_frame(*fr, f, files, ps, output_ms, total_ms);
+    progress_.draw(fi + 1);
+    renderer_.recycle(std::move(fr).value());  // the next frame reuses its buffers
+    return 0;
+  }
 
-    const std::string& image_file = files[0];
-    Image color = box_downsample(r->framebuffer.color, k);
-    if (*exposure != 0.0f) apply_exposure(color, exposure_scale);
-    apply_output_alpha(color, alpha_mode);
-    // Every output of the frame is written in full to its temporary, then all are renamed.
-    // The image is staged (and renamed) last, so a non-empty image means a complete frame.
+  // --skip-existing / --placeholder: why the frame is skipped (nullptr: render it), taking the
+  // placeholder claim when it is not.
+  Result<const char*> skip_or_claim(const std::vector<std::string>& files, Claim& claim) {
+    const char* why = skip_reason(files, a_.placeholder);
+    if (!why && a_.placeholder) {
+      Result<bool> took = claim.take(files[0]);
+      if (!took.ok()) return took.status();
+      // Not taken: another run claimed it since (or the image is there but another output is
+      // not, deleted since: then it is rendered again).
+      if (!*took && output_empty(files[0])) why = "claimed";
+    }
+    return why;
+  }
+
+  // The scene at frame f: its animation at time_s, the turntable camera.
+  PoseStats pose_frame(int f, double time_s) {
+    const int cam = job_.opt.camera;
+    if (turntable_) scene_.cameras[cam] = loaded_cameras_[cam];
+    PoseStats ps;
+    if (anim_) ps = pose_scene(*anim_, pose_, time_s, scene_);
+    if (turntable_) {
+      const FrameList& list = job_.list;
+      const double angle = 2.0 * M_PI * (f - list.first()) / (list.last() - list.first() + 1);
+      scene_.cameras[cam] = orbit_camera(scene_.cameras[cam], centre_, angle);
+    }
+    return ps;
+  }
+
+  // Every output of the frame is written in full to its temporary, then all are renamed. The
+  // image is staged (and renamed) last, so a non-empty image means a complete frame.
+  Status write_outputs(const Frame& fr, const std::vector<std::string>& files, int f, double time_s,
+                       const PoseStats& ps, Claim& claim) {
+    const int k = job_.k;
+    const Framebuffer& fb = fr.result.framebuffer;
+    Image color = box_downsample(fb.color, k);
+    if (job_.exposure != 0.0f) apply_exposure(color, std::exp2(job_.exposure));
+    apply_output_alpha(color, job_.alpha_mode);
     StagedFiles out;
     auto stage = [&out](const std::string& file, const Result<std::vector<unsigned char>>& bytes) {
       if (!bytes.ok()) return bytes.status();
@@ -555,93 +589,173 @@ int do_render(const RenderArgs& a) {
           file, std::string_view(reinterpret_cast<const char*>(bytes->data()), bytes->size()));
     };
     size_t file_index = 1;
-    for (const auto& [name, pattern] : names.aovs) {
+    for (const auto& [name, pattern] : job_.names.aovs) {
       const std::string& file = files[file_index++];
+      Status s;
       if (name == "depth") {
-        s = stage(file, encode_plane(file, point_downsample(r->framebuffer.depth, k)));
+        s = stage(file, encode_plane(file, point_downsample(fb.depth, k)));
       } else {
         for (int i = 0; i < kAovCount; ++i)
           if (name == kAovNames[i])
             s = stage(file,
-                      encode_image(file, point_downsample(
-                                             r->framebuffer.aov_image(static_cast<Aov>(i)), k)));
+                      encode_image(file, point_downsample(fb.aov_image(static_cast<Aov>(i)), k)));
       }
-      if (!s.ok()) return frame_failed(s);
+      RELIEF_RETURN_IF_ERROR(s);
     }
-    if (!names.stats.empty()) {
-      const std::string& file = files.back();
-      RenderOptions shown = opt;
-      shown.width /= k;
-      shown.height /= k;
-      nlohmann::json j = stats_json(*r, scene_name, shown);
-      for (const PassPlan& p : plan->passes) j["plan"]["passes"][p.name] = p.reason;
-      j["plan"]["skipped"] = plan->skipped;
-      j["frame"] = f;
-      j["time_s"] = time_s;
-      j["spp"] = *spp;
-      j["exposure"] = *exposure;
-      j["bake"] = bake.json();
-      if (anim) {
-        j["pose"]["deform_ms"] = ps.deform_ms;
-        j["pose"]["refit_ms"] = ps.refit_ms;
-        j["pose"]["deformed_vertices"] = ps.vertices;
-        j["pose"]["refitted_meshes"] = ps.refitted_meshes;
-      }
-      s = out.stage(file, j.dump(2) + "\n");
-      if (!s.ok()) return frame_failed(s);
-    }
+    if (!job_.names.stats.empty())
+      RELIEF_RETURN_IF_ERROR(
+          out.stage(files.back(), frame_stats(fr, f, time_s, ps).dump(2) + "\n"));
     // The image last: once it is there (not empty), every output of the frame is.
-    s = stage(image_file, encode_image(image_file, color, output_channels(alpha_mode),
-                                       alpha_mode == OutputAlpha::kPremultiplied));
-    if (!s.ok()) return frame_failed(s);
+    const std::string& image_file = files[0];
+    RELIEF_RETURN_IF_ERROR(
+        stage(image_file, encode_image(image_file, color, output_channels(job_.alpha_mode),
+                                       job_.alpha_mode == OutputAlpha::kPremultiplied)));
     claim.release();  // the outputs are renamed into place next, the image over the claim
-    s = out.commit();
-    if (!s.ok()) return frame_failed(s);
-    const double output_ms = ms_since(t_out), total_ms = ms_since(t0);
-    frame_ms.push_back(total_ms);
-    progress.clear();
-    if (a.log_json) {
+    return out.commit();
+  }
+
+  // --stats: the frame's passes, plan, bakes and pose as JSON.
+  nlohmann::json frame_stats(const Frame& fr, int f, double time_s, const PoseStats& ps) const {
+    nlohmann::json j =
+        stats_json(fr.result, job_.scene_name, job_.opt.width / job_.k, job_.opt.height / job_.k);
+    for (const PassPlan& p : fr.plan.passes) j["plan"]["passes"][p.name] = p.reason;
+    j["plan"]["skipped"] = fr.plan.skipped;
+    j["frame"] = f;
+    j["time_s"] = time_s;
+    j["spp"] = job_.spp;
+    j["exposure"] = job_.exposure;
+    j["bake"] = bake_json(fr.bake);
+    if (anim_) {
+      j["pose"]["deform_ms"] = ps.deform_ms;
+      j["pose"]["refit_ms"] = ps.refit_ms;
+      j["pose"]["deformed_vertices"] = ps.vertices;
+      j["pose"]["refitted_meshes"] = ps.refitted_meshes;
+    }
+    return j;
+  }
+
+  // The frame's --log-json line, or its line on stdout (not --quiet).
+  void report_frame(const Frame& fr, int f, const std::vector<std::string>& files,
+                    const PoseStats& ps, double output_ms, double total_ms) const {
+    const BakeStats& bake = fr.bake;
+    const RenderResult& r = fr.result;
+    if (a_.log_json) {
       log_frame(f, "rendered", files, total_ms,
-                {{"frame_ms", r->frame_ms},
+                {{"frame_ms", r.frame_ms},
                  {"output_ms", output_ms},
                  {"bake_ms", bake.bake_ms},
                  {"baked", bake.baked},
                  {"cached", bake.cached()}});
-    } else if (!a.quiet) {
-      std::printf("%s: %dx%d %s on %s, frame %.1f ms", image_file.c_str(), opt.width / k,
-                  opt.height / k, scene_name.c_str(), r->device.c_str(), r->frame_ms);
-      if (bake.baked > 0)
-        std::printf(", derived-map bake %.0f ms (baked %d, cached %d)", bake.bake_ms, bake.baked,
-                    bake.cached());
-      else if (bake.disk_hits > 0)
-        std::printf(", cone maps from the disk cache %.1f ms (%d)", bake.cache_ms, bake.disk_hits);
-      std::printf(", output %.1f ms", output_ms);
-      if (anim && !anim->deformers.empty())
-        std::printf(", deform %.2f ms (%lld vertices)", ps.deform_ms, ps.vertices);
-      if (ps.refitted_meshes) std::printf(", refit %.2f ms", ps.refit_ms);
-      std::printf("\n");
-      std::fflush(stdout);
+      return;
     }
-    progress.draw(fi + 1);
-    (*backend)->recycle(std::move(r).value());  // the next frame reuses its buffers
+    if (a_.quiet) return;
+    std::printf("%s: %dx%d %s on %s, frame %.1f ms", files[0].c_str(), job_.opt.width / job_.k,
+                job_.opt.height / job_.k, job_.scene_name.c_str(), r.device.c_str(), r.frame_ms);
+    if (bake.baked > 0)
+      std::printf(", derived-map bake %.0f ms (baked %d, cached %d)", bake.bake_ms, bake.baked,
+                  bake.cached());
+    else if (bake.disk_hits > 0)
+      std::printf(", cone maps from the disk cache %.1f ms (%d)", bake.cache_ms, bake.disk_hits);
+    std::printf(", output %.1f ms", output_ms);
+    if (anim_ && !anim_->deformers.empty())
+      std::printf(", deform %.2f ms (%lld vertices)", ps.deform_ms, ps.vertices);
+    if (ps.refitted_meshes) std::printf(", refit %.2f ms", ps.refit_ms);
+    std::printf("\n");
+    std::fflush(stdout);
   }
-  progress.clear();  // the summary gets a line of its own
-  if ((frames.size() > 1 || skipped) && !a.quiet) {
+
+  // The run's summary line (more than one frame, or frames skipped; not --quiet).
+  void summary(std::chrono::steady_clock::time_point run_t0) {
+    const std::vector<int>& frames = job_.frames;
+    if ((frames.size() <= 1 && !skipped_) || a_.quiet) return;
     const double run_s =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - run_t0).count();
-    std::fprintf(human, "%zu frame%s (%d-%d, shard %d/%d) in %.2f s", frames.size(),
-                 frames.size() == 1 ? "" : "s", frames.front(), frames.back(), shard.index,
-                 shard.count, run_s);
-    if (!frame_ms.empty()) {
-      std::sort(frame_ms.begin(), frame_ms.end());
-      std::fprintf(human, ", median %.1f ms a frame", frame_ms[frame_ms.size() / 2]);
+    std::fprintf(human_, "%zu frame%s (%d-%d, shard %d/%d) in %.2f s", frames.size(),
+                 frames.size() == 1 ? "" : "s", frames.front(), frames.back(), job_.shard.index,
+                 job_.shard.count, run_s);
+    if (!frame_ms_.empty()) {
+      std::sort(frame_ms_.begin(), frame_ms_.end());
+      std::fprintf(human_, ", median %.1f ms a frame", frame_ms_[frame_ms_.size() / 2]);
     }
-    if (skip_existing)
-      std::fprintf(human, "; rendered %zu, skipped %d (outputs there or claimed)", frame_ms.size(),
-                   skipped);
-    std::fprintf(human, "\n");
+    if (job_.skip_existing)
+      std::fprintf(human_, "; rendered %zu, skipped %d (outputs there or claimed)",
+                   frame_ms_.size(), skipped_);
+    std::fprintf(human_, "\n");
   }
-  return 0;
+
+  const RenderArgs& a_;
+  const RenderJob& job_;
+  Scene& scene_;
+  Renderer& renderer_;
+  std::vector<GltfIgnored> ignored_;
+  FILE* human_;  // --log-json keeps stdout for JSON lines
+  Progress progress_;
+  BakeProgress bake_progress_;
+  PoseOptions pose_;
+  std::shared_ptr<const SceneAnimation> anim_;
+  bool turntable_ = false;
+  glm::dvec3 centre_{0.0};
+  std::vector<Camera> loaded_cameras_;
+  std::vector<double> frame_ms_;
+  int skipped_ = 0;
+};
+
+// --skip-existing with every output of every frame there: nothing to render, not even the scene
+// is loaded. Reports the skips; false when something has to render.
+bool all_frames_skipped(const RenderArgs& a, const RenderJob& job) {
+  const std::vector<int>& frames = job.frames;
+  if (!job.skip_existing || frames.empty() ||
+      !std::all_of(frames.begin(), frames.end(), [&](int f) {
+        return skip_reason(frame_outputs(job.names, job.named, f), a.placeholder) != nullptr;
+      }))
+    return false;
+  for (int f : frames)
+    if (a.log_json) {
+      const std::vector<std::string> files = frame_outputs(job.names, job.named, f);
+      log_frame(f, "skipped", files, 0.0, {{"reason", skip_reason(files, a.placeholder)}});
+    }
+  if (!a.quiet)
+    std::fprintf(a.log_json ? stderr : stdout,
+                 "%zu frame%s (%d-%d, shard %d/%d): rendered 0, skipped %zu (outputs there "
+                 "or claimed)\n",
+                 frames.size(), frames.size() == 1 ? "" : "s", frames.front(), frames.back(),
+                 job.shard.index, job.shard.count, frames.size());
+  return true;
+}
+
+int do_render(const RenderArgs& a) {
+  Result<RenderJob> made = make_render_job(a);
+  if (!made.ok()) return fail(made.status().message(), made.status().exit_code());
+  RenderJob& job = *made;
+  if (all_frames_skipped(a, job)) return 0;
+  for (const std::string& p : a.plugins) {
+    Status ls = load_plugin_arg(p);
+    if (!ls.ok()) return fail(ls.message(), ls.exit_code());
+  }
+  std::vector<GltfIgnored> ignored;
+  Result<Scene> scene =
+      load_scene_source(job.scene_name, a.allow_outside_scene_dir, a.strict, &ignored);
+  if (!scene.ok()) return fail(scene.status().message(), scene.status().exit_code());
+  Result<int> camera = resolve_camera(*scene, a.camera);
+  if (!camera.ok()) return fail(camera.status().message(), camera.status().exit_code());
+  job.opt.camera = *camera;
+  Result<int> clip = resolve_clip(*scene, a.animation);
+  if (!clip.ok()) return fail(clip.status().message(), clip.status().exit_code());
+  PoseOptions pose;
+  pose.clip = *clip;
+  pose.technique = a.technique;
+
+  Result<std::unique_ptr<Backend>> backend = make_backend(a.backend, job.backend);
+  if (!backend.ok()) return fail(backend.status().message(), backend.status().exit_code());
+  if (job.frames.empty()) {
+    if (!a.quiet)
+      std::fprintf(a.log_json ? stderr : stdout, "shard %d/%d: no frames (the list has %d)\n",
+                   job.shard.index, job.shard.count, job.list.count());
+    return 0;
+  }
+  Renderer renderer(std::move(backend).value());
+  FrameLoop loop(a, job, *scene, renderer, std::move(ignored));
+  return loop.run(pose);
 }
 
 }  // namespace

@@ -7,10 +7,10 @@
 #include <cerrno>
 #include <cstdio>
 
+#include "builtin/builtin.h"
 #include "gl/gl_backend.h"
 #include "plugins/registry.h"
 #include "rasterizer/safe_file.h"
-#include "scene/builtin.h"
 #include "scene/gltf.h"
 
 namespace relief::cli {
@@ -129,12 +129,6 @@ Status load_plugin_arg(const std::string& file) {
   if (file.find('/') == std::string::npos && ::stat(file.c_str(), &st) == 0)
     return PluginRegistry::global().load("./" + file);
   return PluginRegistry::global().load(file);
-}
-
-Result<std::unique_ptr<Backend>> make_backend(const std::string& name, int threads, int gpu) {
-  // threads applies to the CPU backend; llvmpipe takes LP_NUM_THREADS from the environment.
-  if (name == "cpu") return make_cpu_backend(threads);
-  return make_gl_backend(gpu);
 }
 
 }  // namespace relief::cli

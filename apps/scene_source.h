@@ -48,7 +48,5 @@ Result<int> resolve_camera(const Scene& scene, const std::string& name_or_index)
 // `--plugin FILE`: loads FILE into PluginRegistry::global(). A name without '/' that exists here
 // is this folder's file ("my.so" is "./my.so"; dlopen would search the library path instead).
 Status load_plugin_arg(const std::string& file);
-// "cpu" or "gl"; gpu is the EGL device index for gl (-1: first usable).
-Result<std::unique_ptr<Backend>> make_backend(const std::string& name, int threads, int gpu);
 
 }  // namespace relief::cli

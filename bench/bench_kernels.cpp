@@ -22,8 +22,8 @@
 #include <vector>
 
 #include "base/simd.h"
+#include "builtin/builtin.h"
 #include "render/derived_maps.h"
-#include "scene/builtin.h"
 #include "shaders_cpp/cone.h"
 #include "shaders_cpp/exact.h"
 #include "shaders_cpp/search.h"

@@ -4,7 +4,7 @@
 // search=relaxed_cone (15 cone steps + 8 halvings); and the per-vertex quadric
 // fit (scene/mesh_prep.h) of a 100k-vertex torus.
 #include "bench/bench_util.h"
-#include "scene/builtin_curved.h"
+#include "builtin/builtin_curved.h"
 #include "scene/mesh_prep.h"
 
 namespace relief {

@@ -10,19 +10,19 @@
 #include <benchmark/benchmark.h>
 
 #include "base/simd.h"
+#include "builtin/builtin.h"
 #include "gl/gl_backend.h"
 #include "render/render.h"
-#include "scene/builtin.h"
+#include "render/renderer.h"
 
 namespace relief {
 namespace {
 
 // The benchmarked frame: `plane` at 1920x1080 with `technique`.
-RenderOptions plane_options(const char* technique, int threads) {
+RenderOptions plane_options(const char* technique) {
   RenderOptions opt;
   opt.width = 1920;
   opt.height = 1080;
-  opt.threads = threads;
   opt.technique = technique;
   return opt;
 }
@@ -31,14 +31,13 @@ void run_plane(benchmark::State& state, const char* technique) {
   const int threads = static_cast<int>(state.range(0));
   const bool recycle = state.range(1) != 0;  // hand each frame back: no allocation per frame
   Result<Scene> scene = make_builtin_scene("plane");
-  const RenderOptions opt = plane_options(technique, threads);
-  Result<Plan> plan = make_plan(*scene, opt);
-  auto backend = make_cpu_backend(threads);
+  Renderer renderer(make_cpu_backend({.threads = threads}));
+  Result<Plan> plan = renderer.plan(*scene, plane_options(technique));
   uint64_t fragments = 0;
   double setup_ms = 0.0, raster_ms = 0.0, other_ms = 0.0;
-  (void)backend->render(*scene, *plan, opt);  // warm-up
+  (void)renderer.execute(*scene, *plan);  // warm-up
   for (auto _ : state) {
-    Result<RenderResult> r = backend->render(*scene, *plan, opt);
+    Result<RenderResult> r = renderer.execute(*scene, *plan);
     double pass_ms = 0.0;
     for (const PassStats& p : r->passes) {
       fragments += p.raster.work.fragments;
@@ -48,7 +47,7 @@ void run_plane(benchmark::State& state, const char* technique) {
     }
     other_ms += r->frame_ms - pass_ms;
     benchmark::DoNotOptimize(r->framebuffer.color.pixels.data());
-    if (recycle) backend->recycle(std::move(r).value());
+    if (recycle) renderer.recycle(std::move(r).value());
   }
   state.SetItemsProcessed(static_cast<int64_t>(fragments));
   const double n = static_cast<double>(state.iterations());
@@ -61,17 +60,18 @@ void run_plane(benchmark::State& state, const char* technique) {
 // The same frame on the GL backend: manual time = the main pass (PassStats::ms).
 void run_plane_gl(benchmark::State& state, const char* technique) {
   Result<Scene> scene = make_builtin_scene("plane");
-  const RenderOptions opt = plane_options(technique, 0);  // llvmpipe's threads: LP_NUM_THREADS
-  Result<Plan> plan = make_plan(*scene, opt);
+  const RenderOptions opt = plane_options(technique);  // llvmpipe's threads: LP_NUM_THREADS
   auto backend = make_gl_backend();
   if (!backend) {
     state.SkipWithError(backend.status().message().c_str());
     return;
   }
-  (void)(*backend)->render(*scene, *plan, opt);  // warm-up: llvmpipe compiles its variants
+  Renderer renderer(std::move(backend).value());
+  Result<Plan> plan = renderer.plan(*scene, opt);
+  (void)renderer.execute(*scene, *plan);  // warm-up: llvmpipe compiles its variants
   uint64_t fragments = 0;
   for (auto _ : state) {
-    Result<RenderResult> r = (*backend)->render(*scene, *plan, opt);
+    Result<RenderResult> r = renderer.execute(*scene, *plan);
     double pass_ms = 0.0;
     for (const PassStats& p : r->passes) pass_ms += p.ms;
     fragments += static_cast<uint64_t>(opt.width) * static_cast<uint64_t>(opt.height);

@@ -8,8 +8,9 @@
 #include <map>
 #include <string>
 
+#include "builtin/builtin.h"
 #include "render/render.h"
-#include "scene/builtin.h"
+#include "render/renderer.h"
 
 namespace relief {
 
@@ -30,21 +31,20 @@ inline WorkCounters time_technique(benchmark::State& state, const char* scene_na
   RenderOptions opt;
   opt.width = 1024;
   opt.height = 768;
-  opt.threads = 2;
   opt.technique = c.technique;
   opt.params = c.params;
-  Result<Plan> plan = make_plan(*scene, opt);
+  Renderer renderer(make_cpu_backend({.threads = 2}));
+  Result<Plan> plan = renderer.plan(*scene, opt);
   if (!scene.ok() || !plan.ok()) {
     state.SkipWithError(plan.ok() ? "no scene" : plan.status().message().c_str());
     return {};
   }
-  auto backend = make_cpu_backend(opt.threads);
-  (void)backend->render(*scene, *plan, opt);
+  (void)renderer.execute(*scene, *plan);
   WorkCounters work;
   double ns = 0.0;
   for (auto _ : state) {
     const auto t0 = std::chrono::steady_clock::now();
-    Result<RenderResult> r = backend->render(*scene, *plan, opt);
+    Result<RenderResult> r = renderer.execute(*scene, *plan);
     ns += std::chrono::duration<double, std::nano>(std::chrono::steady_clock::now() - t0).count();
     if (!r.ok()) {
       state.SkipWithError(r.status().message().c_str());
@@ -52,7 +52,7 @@ inline WorkCounters time_technique(benchmark::State& state, const char* scene_na
     }
     for (const PassStats& p : r->passes) work += p.raster.work;
     benchmark::DoNotOptimize(r->framebuffer.color.pixels.data());
-    backend->recycle(std::move(r).value());
+    renderer.recycle(std::move(r).value());
   }
   const double f = static_cast<double>(work.fragments);
   if (f == 0.0) return work;

@@ -9,7 +9,7 @@ include(CMakePackageConfigHelpers)
 # build the targets first (relief and relief_man for the relief package).
 set(CMAKE_SKIP_INSTALL_ALL_DEPENDENCY ON)
 
-set(RELIEF_EXPORTED_LIBS relief_base relief_rasterizer relief_shaders relief_plugins relief_bake relief_scene
+set(RELIEF_EXPORTED_LIBS relief_base relief_rasterizer relief_shaders relief_plugins relief_bake relief_scene relief_builtin
     relief_render relief_gl)
 foreach(lib IN LISTS RELIEF_EXPORTED_LIBS)
   string(REPLACE "relief_" "" short ${lib})
@@ -21,7 +21,7 @@ install(TARGETS ${RELIEF_EXPORTED_LIBS} EXPORT reliefTargets
 install(TARGETS relief RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR} COMPONENT bin)
 # Headers keep their folder so `#include "render/render.h"` reads the same inside and outside;
 # a folder's *_internal.h headers are its own (scene/gltf_internal.h) and stay out.
-foreach(dir base rasterizer shaders_cpp plugins bake scene render gl)
+foreach(dir base rasterizer shaders_cpp plugins bake scene builtin render gl)
   install(DIRECTORY ${CMAKE_SOURCE_DIR}/${dir}/ DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/relief/${dir}
           COMPONENT dev FILES_MATCHING PATTERN "*.h" PATTERN "*_internal.h" EXCLUDE)
 endforeach()

@@ -19,7 +19,7 @@ const char kNoGl[] = "not in this build, configured with -DRELIEF_GL=OFF";
 
 }  // namespace
 
-Result<std::unique_ptr<Backend>> make_gl_backend(int) {
+Result<std::unique_ptr<Backend>> make_gl_backend(const BackendConfig&) {
   return Status::usage(std::string("--backend gl: ") + kNoGlBackend);
 }
 

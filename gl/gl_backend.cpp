@@ -277,11 +277,11 @@ void pack_shadow_view(const ShadowPassSetup& s, const ShadowSettings& settings, 
 
 class GlBackend final : public Backend {
  public:
-  explicit GlBackend(std::unique_ptr<gl::Context> ctx) : ctx_(std::move(ctx)) {}
+  GlBackend(std::unique_ptr<gl::Context> ctx, const BackendConfig& config)
+      : ctx_(std::move(ctx)), count_work_(config.count_work) {}
   ~GlBackend() override;
   std::string name() const override { return "gl"; }
-  Result<RenderResult> render(const Scene& scene, const Plan& plan,
-                              const RenderOptions& options) override;
+  Result<RenderResult> render(const Scene& scene, const Plan& plan) override;
 
  private:
   // The program of a plugin's twin ("depth_only" for casters without a shadow-pass variant).
@@ -314,6 +314,7 @@ class GlBackend final : public Backend {
   void release_target();
 
   std::unique_ptr<gl::Context> ctx_;
+  bool count_work_ = false;  // BackendConfig::count_work
   std::map<std::string, Program> programs_;
   std::map<std::pair<const Texture*, Upload>, CachedTexture> textures_;
   std::map<HeightFieldKey, CachedTexture> height_fields_;
@@ -886,17 +887,16 @@ Status GlBackend::shadow_pass(const Scene& scene, const Plan& plan, const PassPl
   return {};
 }
 
-Result<RenderResult> GlBackend::render(const Scene& scene, const Plan& plan,
-                                       const RenderOptions& opt) {
+Result<RenderResult> GlBackend::render(const Scene& scene, const Plan& plan) {
   const auto t_frame = Clock::now();
   RELIEF_RETURN_IF_ERROR(ctx_->make_current());
   while (glGetError() != GL_NO_ERROR) {
   }
   RenderResult result;
   result.device = ctx_->info().renderer;
-  const bool aovs = opt.aovs != 0;
-  const bool count = opt.count_work;
-  const int w = opt.width, h = opt.height;
+  const bool aovs = plan.frame.aovs != 0;
+  const bool count = count_work_;
+  const int w = plan.frame.width, h = plan.frame.height;
 
   // Drop cached textures and max-mips nobody else holds any more.
   drop_unowned(textures_, glDeleteTextures);
@@ -1113,7 +1113,7 @@ Result<RenderResult> GlBackend::render(const Scene& scene, const Plan& plan,
 
   // Read back, flipping rows: GL's row 0 is the bottom, the Image's the top.
   const auto t_read = Clock::now();
-  Framebuffer fb(w, h, opt.aovs);
+  Framebuffer fb(w, h, plan.frame.aovs);
   std::vector<float> buf(static_cast<size_t>(w) * h * 4);
   glPixelStorei(GL_PACK_ALIGNMENT, 4);
   glPixelStorei(GL_PACK_ROW_LENGTH, 0);
@@ -1158,10 +1158,10 @@ Result<RenderResult> GlBackend::render(const Scene& scene, const Plan& plan,
 
 }  // namespace
 
-Result<std::unique_ptr<Backend>> make_gl_backend(int gpu) {
-  Result<std::unique_ptr<gl::Context>> ctx = gl::Context::create(gpu);
+Result<std::unique_ptr<Backend>> make_gl_backend(const BackendConfig& config) {
+  Result<std::unique_ptr<gl::Context>> ctx = gl::Context::create(config.gpu);
   if (!ctx.ok()) return ctx.status();
-  return std::unique_ptr<Backend>(std::make_unique<GlBackend>(std::move(*ctx)));
+  return std::unique_ptr<Backend>(std::make_unique<GlBackend>(std::move(*ctx), config));
 }
 
 }  // namespace relief

@@ -26,9 +26,15 @@
 
 namespace relief {
 
-// gpu: EGL device index (relief info lists them), or -1 to pick the first hardware device and
-// fall back to Mesa's surfaceless platform. Fails with one line when no context can be made.
-Result<std::unique_ptr<Backend>> make_gl_backend(int gpu = -1);
+// config.gpu: EGL device index (relief info lists them), or -1 to pick the first hardware device
+// and fall back to Mesa's surfaceless platform; config.count_work: count fetches and steps.
+// Threads and tile size are the CPU's and ignored here. Fails with one line when no context can be
+// made.
+Result<std::unique_ptr<Backend>> make_gl_backend(const BackendConfig& config = {});
+
+// A backend by name ("cpu" or "gl"; anything else is a usage error naming --backend).
+Result<std::unique_ptr<Backend>> make_backend(const std::string& name,
+                                              const BackendConfig& config = {});
 
 // The twin of a plugin: "<plugin>.frag" in gl/shaders, and whether it exists.
 std::string gl_twin_file(const std::string& plugin_name);

@@ -93,20 +93,22 @@ void add_raster(RasterStats& sum, const RasterStats& s) {
 
 class CpuBackend final : public Backend {
  public:
-  explicit CpuBackend(int threads) : pool_(threads) {}
+  explicit CpuBackend(const BackendConfig& config)
+      : pool_(config.threads), tile_size_(config.tile_size) {}
   std::string name() const override { return "cpu"; }
 
-  Result<RenderResult> render(const Scene& scene, const Plan& plan,
-                              const RenderOptions& opt) override {
+  Result<RenderResult> render(const Scene& scene, const Plan& plan) override {
     const auto t0 = Clock::now();
     RenderResult result;
     result.device = "cpu (" + std::to_string(pool_.size()) + " threads)";
     // The main target: a recycled one of the same shape, else a new one; the rasterizer clears it
     // tile by tile.
-    if (spare_.width == opt.width && spare_.height == opt.height && spare_.aov_mask == opt.aovs)
+    const int width = plan.frame.width, height = plan.frame.height;
+    const AovMask aovs = plan.frame.aovs;
+    if (spare_.width == width && spare_.height == height && spare_.aov_mask == aovs)
       result.framebuffer = std::move(spare_);
     else
-      result.framebuffer = Framebuffer(opt.width, opt.height, opt.aovs);
+      result.framebuffer = Framebuffer(width, height, aovs);
     spare_ = Framebuffer();
 
     // Plugin state (derived maps) per material, built once per frame here.
@@ -118,8 +120,7 @@ class CpuBackend final : public Backend {
       if (state) states.emplace_back(state, b.plugin->destroy_state);
       state_of[m] = state;
     }
-    if (!rasterizer_ || rasterizer_->config().tile_size != opt.tile_size)
-      rasterizer_ = std::make_unique<Rasterizer>(pool_, RasterConfig{opt.tile_size});
+    if (!rasterizer_) rasterizer_ = std::make_unique<Rasterizer>(pool_, RasterConfig{tile_size_});
 
     // Shadow passes: one depth map per face, kept until the main pass has read them.
     FrameUniforms frame = plan.frame;
@@ -157,7 +158,7 @@ class CpuBackend final : public Backend {
       dc.user = &bindings[p.material];
       dc.blend = b.uniforms.alpha_mode == AlphaMode::kBlend;
       dc.depth_write = !dc.blend;
-      dc.aov_write = opt.aovs != 0 && !dc.blend;
+      dc.aov_write = aovs != 0 && !dc.blend;
       draws.push_back(dc);
     }
     const auto t1 = Clock::now();
@@ -245,6 +246,7 @@ class CpuBackend final : public Backend {
   }
 
   ThreadPool pool_;
+  int tile_size_ = 64;
   std::unique_ptr<Rasterizer> rasterizer_;
   Framebuffer spare_;                 // from recycle(): the next frame's main target
   std::vector<Plane> shadow_planes_;  // the last frame's shadow maps, reused by the next
@@ -252,8 +254,8 @@ class CpuBackend final : public Backend {
 
 }  // namespace
 
-std::unique_ptr<Backend> make_cpu_backend(int threads) {
-  return std::make_unique<CpuBackend>(threads);
+std::unique_ptr<Backend> make_cpu_backend(const BackendConfig& config) {
+  return std::make_unique<CpuBackend>(config);
 }
 
 }  // namespace relief

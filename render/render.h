@@ -22,18 +22,15 @@
 
 namespace relief {
 
+// What one frame asks for; make_plan() turns it into a Plan, which is all a backend reads.
 struct RenderOptions {
   int width = 800;
   int height = 600;
-  int threads = 0;  // 0: all cores
-  int tile_size = 64;
   int camera = 0;         // index into Scene::cameras
   std::string technique;  // when set, replaces every relief material's technique
   std::map<std::string, std::string> params;  // key=value overrides of plugin parameters
   AovMask aovs = 0;
   bool scalar_lanes = false;  // run kernels one fragment at a time (reference path)
-  // GL backend: count the work counters (fetches, steps) with atomics; the CPU always counts.
-  bool count_work = false;
   // Effect switches over the whole scene (the scene's own choices still apply): shadow passes
   // (shadow maps) and self-shadow rays. Bias and filtering of the shadow-map lookups.
   bool shadows = true;
@@ -145,12 +142,23 @@ struct RenderResult {
   double readback_ms = 0.0;
 };
 
+// How a backend runs, fixed when it is made: what does not change from frame to frame.
+struct BackendConfig {
+  int threads = 0;     // CPU: worker threads, 0 = all cores
+  int tile_size = 64;  // CPU: tile side in pixels (even, 8..512)
+  int gpu = -1;        // GL: EGL device index, -1 = the first usable
+  // GL: count the work counters (fetches, steps) with atomics; the CPU always counts.
+  bool count_work = false;
+};
+
+// Executes a Plan. Everything a frame asks for (size, AOVs, passes, camera, shadow settings, the
+// scalar reference path) is in the plan (Plan::frame, Plan::passes, Plan::shadow); the scene
+// supplies the geometry and textures the plan names.
 class Backend {
  public:
   virtual ~Backend() = default;
   virtual std::string name() const = 0;
-  virtual Result<RenderResult> render(const Scene& scene, const Plan& plan,
-                                      const RenderOptions& options) = 0;
+  virtual Result<RenderResult> render(const Scene& scene, const Plan& plan) = 0;
   // Hands a finished frame back once its images are no longer needed, so that the next render()
   // of the same size reuses its buffers instead of allocating and faulting them in again
   // (multi-frame renders, benchmarks). Optional; the default drops them.
@@ -158,6 +166,6 @@ class Backend {
 };
 
 // The CPU backend keeps its thread pool between frames.
-std::unique_ptr<Backend> make_cpu_backend(int threads);
+std::unique_ptr<Backend> make_cpu_backend(const BackendConfig& config = {});
 
 }  // namespace relief

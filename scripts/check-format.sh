@@ -15,7 +15,7 @@ if [ $# -gt 0 ]; then
 elif git rev-parse --is-inside-work-tree >/dev/null 2>&1; then
   mapfile -t files < <(git ls-files '*.h' '*.cpp' ':!tests/tools/*')
 else
-  mapfile -t files < <(find apps bake base bench cmake examples gl plugins rasterizer render scene \
+  mapfile -t files < <(find apps bake base bench builtin cmake examples gl plugins rasterizer render scene \
                          shaders_cpp sweep tests -path tests/tools -prune -o \
                          \( -name '*.h' -o -name '*.cpp' \) -print | sort)
 fi

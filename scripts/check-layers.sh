@@ -2,7 +2,8 @@
 # The layers of DESIGN.md, enforced: every `#include "FOLDER/..."` in a library folder must name
 # that folder or one of the folders below it. The build runs this (target relief_layers), so a
 # wrong-direction include fails `make`. Layers, bottom up:
-#   base -> rasterizer -> shaders_cpp -> {plugins, bake} -> scene -> render -> gl -> sweep -> apps
+#   base -> rasterizer -> shaders_cpp -> {plugins, bake} -> scene -> {builtin, render} -> gl
+#   -> sweep -> apps
 # (a folder may include any folder listed as below it here). Exceptions are listed file by file
 # with the work that removes them; a new one is a design change, not a quick fix.
 # Usage: check-layers.sh [REPO_DIR]; check-layers.sh --self-test (a tree with a kernel header that
@@ -29,10 +30,11 @@ declare -A allowed=(
   [plugins]="base rasterizer shaders_cpp plugins"
   [bake]="base rasterizer shaders_cpp bake"
   [scene]="base rasterizer scene"
+  [builtin]="base rasterizer shaders_cpp plugins bake scene builtin"
   [render]="base rasterizer shaders_cpp plugins bake scene render"
   [gl]="base rasterizer shaders_cpp plugins bake scene render gl"
-  [sweep]="base rasterizer shaders_cpp plugins bake scene render gl sweep"
-  [apps]="base rasterizer shaders_cpp plugins bake scene render gl sweep apps"
+  [sweep]="base rasterizer shaders_cpp plugins bake scene builtin render gl sweep"
+  [apps]="base rasterizer shaders_cpp plugins bake scene builtin render gl sweep apps"
 )
 # Known exceptions (issue 25: scene/ becomes data plus I/O once the prepare stage owns the normal
 # maps the loaders bake and the one validator of techniques and parameters replaces the glTF
@@ -42,9 +44,6 @@ exceptions=(
   "scene/gltf_internal.h plugins/plugin.h"
   "scene/gltf_read_materials.cpp plugins/registry.h"
   "scene/gltf_read_materials.cpp bake/normal_map.h"
-  "scene/builtin.cpp bake/normal_map.h"
-  "scene/builtin_room.cpp bake/normal_map.h"
-  "scene/builtin_impostor.h bake/dual_depth.h"
 )
 
 bad=0

@@ -9,9 +9,9 @@
 #include <glm/trigonometric.hpp>
 
 #include "bake/normal_map.h"
+#include "builtin/builtin.h"
 #include "plugins/registry.h"
 #include "plugins/relief_shell.h"
-#include "scene/builtin.h"
 #include "scene/image_io.h"
 #include "scene/mesh_prep.h"
 #include "sweep/sweep.h"

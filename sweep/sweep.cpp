@@ -13,6 +13,7 @@
 #include "plugins/registry.h"
 #include "render/compare.h"
 #include "render/render.h"
+#include "render/renderer.h"
 #include "shaders_cpp/exact.h"
 
 namespace relief::sweep {
@@ -105,13 +106,12 @@ struct Measured {
 
 class Runner {
  public:
-  Runner(const Options& o) : opt_(o), cpu_(make_cpu_backend(o.threads)) {}
+  Runner(const Options& o) : opt_(o), cpu_(make_cpu_backend({.threads = o.threads})) {}
 
   RenderOptions render_options(const Setting& s, bool aovs) const {
     RenderOptions r;
     r.width = opt_.width;
     r.height = opt_.height;
-    r.threads = opt_.threads;
     r.technique = s.technique;
     r.params = s.params;
     r.shadows = false;
@@ -120,20 +120,20 @@ class Runner {
     return r;
   }
 
-  Result<RenderResult> render(Backend& b, const Scene& scene, const RenderOptions& ro,
+  Result<RenderResult> render(Renderer& r, const Scene& scene, const RenderOptions& ro,
                               const PluginDescriptor* wrap = nullptr) {
-    Result<Plan> plan = make_plan(scene, ro);
+    Result<Plan> plan = r.plan(scene, ro);
     if (!plan.ok()) return plan.status();
-    if (!wrap) return b.render(scene, *plan, ro);
-    for (BoundMaterial& m : plan->materials) m.plugin = wrap;
-    return b.render(scene, *plan, ro);
+    if (wrap)
+      for (BoundMaterial& m : plan->materials) m.plugin = wrap;
+    return r.execute(scene, *plan);
   }
 
   Result<Measured> measure(const Scene& scene, const Setting& s) {
     Measured m;
     const RenderOptions ro = render_options(s, true);
     for (int i = 0; i < opt_.warmup + opt_.repeats; ++i) {
-      Result<RenderResult> r = render(*cpu_, scene, ro);
+      Result<RenderResult> r = render(cpu_, scene, ro);
       if (!r.ok()) return r.status();
       const PassStats* p = main_pass(*r);
       if (!p || p->raster.work.fragments == 0)
@@ -144,15 +144,15 @@ class Runner {
       if (i + 1 == opt_.warmup + opt_.repeats)
         m.on = std::move(r->framebuffer);
       else
-        cpu_->recycle(std::move(r).value());  // the next repeat reuses its buffers
+        cpu_.recycle(std::move(r).value());  // the next repeat reuses its buffers
     }
     // self-shadow off, and no lights: the sun's share of each pixel and whether it is shadowed
     Scene off = scene, dark = scene;
     off.materials[0].self_shadow = false;
     dark.lights.clear();
-    Result<RenderResult> r_off = render(*cpu_, off, render_options(s, false));
+    Result<RenderResult> r_off = render(cpu_, off, render_options(s, false));
     if (!r_off.ok()) return r_off.status();
-    Result<RenderResult> r_dark = render(*cpu_, dark, render_options(s, false));
+    Result<RenderResult> r_dark = render(cpu_, dark, render_options(s, false));
     if (!r_dark.ok()) return r_dark.status();
     const size_t n = m.on.color.pixels.size();
     m.visible.assign(n, -1);
@@ -175,7 +175,7 @@ class Runner {
       std::lock_guard<std::mutex> lock(g_counting_mutex);
       g_inner = plugin;
       g_sink = &m.work;
-      Result<RenderResult> r = render(*cpu_, scene, render_options(s, false), &wrapper);
+      Result<RenderResult> r = render(cpu_, scene, render_options(s, false), &wrapper);
       g_sink = nullptr;
       g_inner = nullptr;
       if (!r.ok()) return r.status();
@@ -198,13 +198,13 @@ class Runner {
       }
       // llvmpipe's threads: as many as the CPU backend's unless the caller set them
       if (opt_.threads > 0) setenv("LP_NUM_THREADS", std::to_string(opt_.threads).c_str(), 0);
-      Result<std::unique_ptr<Backend>> b = make_gl_backend(-1);
+      Result<std::unique_ptr<Backend>> b = make_gl_backend();
       if (!b.ok()) {
         gl_error_ = "no GL context: " + b.status().message();
         note = gl_error_;
         return {};
       }
-      gl_ = std::move(b).value();
+      gl_ = std::make_unique<Renderer>(std::move(b).value());
     }
     std::vector<double> ns;
     const RenderOptions ro = render_options(s, false);
@@ -227,7 +227,8 @@ class Runner {
 
  private:
   Options opt_;
-  std::unique_ptr<Backend> cpu_, gl_;
+  Renderer cpu_;
+  std::unique_ptr<Renderer> gl_;
   std::string gl_error_, cpu_device_, gl_device_;
 };
 

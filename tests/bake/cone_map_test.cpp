@@ -10,8 +10,8 @@
 
 #include <gtest/gtest.h>
 
+#include "builtin/builtin.h"
 #include "sanitized.h"
-#include "scene/builtin.h"
 
 namespace relief {
 namespace {

@@ -8,7 +8,7 @@
 #include <gtest/gtest.h>
 
 #include "bake/dual_depth.h"
-#include "scene/builtin_curved.h"
+#include "builtin/builtin_curved.h"
 #include "scene/gltf.h"
 #include "scene/image_io.h"
 #include "tests/apps/cli_run.h"

@@ -26,11 +26,11 @@
 
 #include <gtest/gtest.h>
 
+#include "builtin/builtin.h"
 #include "gl/gl_backend.h"
 #include "gl_test_util.h"
 #include "plugins/registry.h"
 #include "render/compare.h"
-#include "scene/builtin.h"
 
 namespace relief {
 namespace {
@@ -131,9 +131,9 @@ std::vector<std::string> builtin_scene_names() {
 
 TEST_P(GlAgreementScene, MatchesCpu) {
   RELIEF_REQUIRE_GL();
-  Result<std::unique_ptr<Backend>> gl = make_gl_backend(-1);
+  Result<std::unique_ptr<Backend>> gl = make_gl_backend({.count_work = true});
   ASSERT_TRUE(gl.ok()) << gl.status().message();
-  std::unique_ptr<Backend> cpu = make_cpu_backend(0);
+  std::unique_ptr<Backend> cpu = make_cpu_backend({.threads = 0});
   int compared = 0, shadow_passes = 0;
   std::set<EffectMask> variants_seen;
   {
@@ -183,7 +183,6 @@ TEST_P(GlAgreementScene, MatchesCpu) {
         if (!setting.empty())
           opt.params[setting.substr(0, setting.find('='))] = setting.substr(setting.find('=') + 1);
         opt.aovs = aov_bit(Aov::kHitUv) | aov_bit(Aov::kHitDepth) | aov_bit(Aov::kSteps);
-        opt.count_work = true;
         Result<Plan> plan = make_plan(*scene, opt);
         if (!plan.ok()) {
           std::printf("[ skip     ] %s: %s\n", label.c_str(), plan.status().message().c_str());
@@ -196,9 +195,9 @@ TEST_P(GlAgreementScene, MatchesCpu) {
           continue;
         }
         for (const BoundMaterial& m : plan->materials) variants_seen.insert(m.effects);
-        Result<RenderResult> rc = cpu->render(*scene, *plan, opt);
+        Result<RenderResult> rc = cpu->render(*scene, *plan);
         ASSERT_TRUE(rc.ok()) << rc.status().message();
-        Result<RenderResult> rg = (*gl)->render(*scene, *plan, opt);
+        Result<RenderResult> rg = (*gl)->render(*scene, *plan);
         ASSERT_TRUE(rg.ok()) << rg.status().message();
         const ImageDiff d =
             compare_images(rc->framebuffer.color, rg->framebuffer.color, kThreshold);
@@ -293,9 +292,9 @@ INSTANTIATE_TEST_SUITE_P(BuiltinScenes, GlAgreementScene,
 // Each mode changes the CPU image against the default (so the parameter reaches the search).
 TEST(GlBackend, SearchLodModesMatchCpu) {
   RELIEF_REQUIRE_GL();
-  Result<std::unique_ptr<Backend>> gl = make_gl_backend(-1);
+  Result<std::unique_ptr<Backend>> gl = make_gl_backend();
   ASSERT_TRUE(gl.ok()) << gl.status().message();
-  std::unique_ptr<Backend> cpu = make_cpu_backend(0);
+  std::unique_ptr<Backend> cpu = make_cpu_backend({.threads = 0});
   Result<Scene> scene = make_builtin_scene("plane");
   ASSERT_TRUE(scene.ok()) << scene.status().message();
   for (const char* technique : {"relief", "pom", "steep_parallax", "relief_quadric"}) {
@@ -305,16 +304,16 @@ TEST(GlBackend, SearchLodModesMatchCpu) {
     opt.technique = technique;
     Result<Plan> base_plan = make_plan(*scene, opt);
     ASSERT_TRUE(base_plan.ok()) << base_plan.status().message();
-    Result<RenderResult> base = cpu->render(*scene, *base_plan, opt);
+    Result<RenderResult> base = cpu->render(*scene, *base_plan);
     ASSERT_TRUE(base.ok()) << base.status().message();
     for (const char* lod : {"zero", "max-mip"}) {
       SCOPED_TRACE(std::string(technique) + " lod=" + lod);
       opt.params["lod"] = lod;
       Result<Plan> plan = make_plan(*scene, opt);
       ASSERT_TRUE(plan.ok()) << plan.status().message();
-      Result<RenderResult> rc = cpu->render(*scene, *plan, opt);
+      Result<RenderResult> rc = cpu->render(*scene, *plan);
       ASSERT_TRUE(rc.ok()) << rc.status().message();
-      Result<RenderResult> rg = (*gl)->render(*scene, *plan, opt);
+      Result<RenderResult> rg = (*gl)->render(*scene, *plan);
       ASSERT_TRUE(rg.ok()) << rg.status().message();
       const ImageDiff d = compare_images(rc->framebuffer.color, rg->framebuffer.color, kThreshold);
       const double off =
@@ -332,7 +331,7 @@ TEST(GlBackend, SearchLodModesMatchCpu) {
 
 TEST(GlBackend, SecondFrameCompilesNothingAndIsIdentical) {
   RELIEF_REQUIRE_GL();
-  Result<std::unique_ptr<Backend>> gl = make_gl_backend(-1);
+  Result<std::unique_ptr<Backend>> gl = make_gl_backend();
   ASSERT_TRUE(gl.ok()) << gl.status().message();
   Result<Scene> scene = make_builtin_scene(default_scene_name());
   ASSERT_TRUE(scene.ok());
@@ -342,8 +341,8 @@ TEST(GlBackend, SecondFrameCompilesNothingAndIsIdentical) {
   opt.technique = "flat";
   Result<Plan> plan = make_plan(*scene, opt);
   ASSERT_TRUE(plan.ok());
-  Result<RenderResult> a = (*gl)->render(*scene, *plan, opt);
-  Result<RenderResult> b = (*gl)->render(*scene, *plan, opt);
+  Result<RenderResult> a = (*gl)->render(*scene, *plan);
+  Result<RenderResult> b = (*gl)->render(*scene, *plan);
   ASSERT_TRUE(a.ok() && b.ok());
   EXPECT_GT(a->compile_ms, 0.0);
   EXPECT_EQ(b->compile_ms, 0.0);
@@ -358,7 +357,7 @@ TEST(GlBackend, SecondFrameCompilesNothingAndIsIdentical) {
 
 TEST(GlBackend, ImageIsTopDownAndBackgroundIsCleared) {
   RELIEF_REQUIRE_GL();
-  Result<std::unique_ptr<Backend>> gl = make_gl_backend(-1);
+  Result<std::unique_ptr<Backend>> gl = make_gl_backend();
   ASSERT_TRUE(gl.ok());
   // One triangle in the top half of the view, facing the camera.
   Scene s;
@@ -385,7 +384,7 @@ TEST(GlBackend, ImageIsTopDownAndBackgroundIsCleared) {
   opt.height = 30;
   Result<Plan> plan = make_plan(s, opt);
   ASSERT_TRUE(plan.ok()) << plan.status().message();
-  Result<RenderResult> r = (*gl)->render(s, *plan, opt);
+  Result<RenderResult> r = (*gl)->render(s, *plan);
   ASSERT_TRUE(r.ok()) << r.status().message();
   const Framebuffer& fb = r->framebuffer;
   // Covered near the top centre, background at the bottom; depth 0 where nothing was drawn.
@@ -397,7 +396,7 @@ TEST(GlBackend, ImageIsTopDownAndBackgroundIsCleared) {
   s.cameras[0].position = {0, 0, -3};
   Result<Plan> back = make_plan(s, opt);
   ASSERT_TRUE(back.ok());
-  r = (*gl)->render(s, *back, opt);
+  r = (*gl)->render(s, *back);
   ASSERT_TRUE(r.ok());
   float covered = 0.0f;
   for (float v : r->framebuffer.depth.values) covered += v > 0.0f ? 1.0f : 0.0f;
@@ -406,7 +405,7 @@ TEST(GlBackend, ImageIsTopDownAndBackgroundIsCleared) {
   s.materials[0].double_sided = true;
   Result<Plan> both = make_plan(s, opt);
   ASSERT_TRUE(both.ok());
-  r = (*gl)->render(s, *both, opt);
+  r = (*gl)->render(s, *both);
   ASSERT_TRUE(r.ok());
   EXPECT_GT(r->framebuffer.depth.at(20, 10), 0.0f);
 }
@@ -416,9 +415,9 @@ TEST(GlBackend, ImageIsTopDownAndBackgroundIsCleared) {
 // the same bounds as the built-in comparison; the maps must darken something.
 TEST(GlBackend, ShadowPassesOfEveryLightKindMatchCpu) {
   RELIEF_REQUIRE_GL();
-  Result<std::unique_ptr<Backend>> gl = make_gl_backend(-1);
+  Result<std::unique_ptr<Backend>> gl = make_gl_backend();
   ASSERT_TRUE(gl.ok()) << gl.status().message();
-  std::unique_ptr<Backend> cpu = make_cpu_backend(0);
+  std::unique_ptr<Backend> cpu = make_cpu_backend({.threads = 0});
   Result<Scene> room = make_builtin_scene("room");
   ASSERT_TRUE(room.ok()) << room.status().message();
   int spot = -1;
@@ -440,8 +439,8 @@ TEST(GlBackend, ShadowPassesOfEveryLightKindMatchCpu) {
     ASSERT_TRUE(plan.ok()) << plan.status().message();
     ASSERT_EQ(plan->passes.size(), 2u);
     ASSERT_EQ(plan->passes[0].kind, PassPlan::Kind::kShadow);
-    Result<RenderResult> rc = cpu->render(scene, *plan, opt);
-    Result<RenderResult> rg = (*gl)->render(scene, *plan, opt);
+    Result<RenderResult> rc = cpu->render(scene, *plan);
+    Result<RenderResult> rg = (*gl)->render(scene, *plan);
     ASSERT_TRUE(rc.ok() && rg.ok()) << (rg.ok() ? "" : rg.status().message());
     ASSERT_EQ(rg->passes.size(), 2u);
     EXPECT_EQ(rg->passes[0].kind, PassPlan::Kind::kShadow);
@@ -458,7 +457,7 @@ TEST(GlBackend, ShadowPassesOfEveryLightKindMatchCpu) {
     none.shadows = false;
     Result<Plan> unshadowed = make_plan(scene, none);
     ASSERT_TRUE(unshadowed.ok());
-    Result<RenderResult> ru = (*gl)->render(scene, *unshadowed, none);
+    Result<RenderResult> ru = (*gl)->render(scene, *unshadowed);
     ASSERT_TRUE(ru.ok());
     const ImageDiff lit = compare_images(ru->framebuffer.color, rg->framebuffer.color, kThreshold);
     EXPECT_GT(lit.over_count, 100u);
@@ -467,7 +466,7 @@ TEST(GlBackend, ShadowPassesOfEveryLightKindMatchCpu) {
 
 TEST(GlBackend, UnknownTwinIsAnError) {
   RELIEF_REQUIRE_GL();
-  Result<std::unique_ptr<Backend>> gl = make_gl_backend(-1);
+  Result<std::unique_ptr<Backend>> gl = make_gl_backend();
   ASSERT_TRUE(gl.ok());
   for (const PluginDescriptor* plugin : PluginRegistry::global().all()) {
     if (gl_has_twin(plugin->name)) continue;
@@ -479,7 +478,7 @@ TEST(GlBackend, UnknownTwinIsAnError) {
     opt.technique = plugin->name;
     Result<Plan> plan = make_plan(*scene, opt);
     if (!plan.ok()) continue;
-    Result<RenderResult> r = (*gl)->render(*scene, *plan, opt);
+    Result<RenderResult> r = (*gl)->render(*scene, *plan);
     ASSERT_FALSE(r.ok());
     EXPECT_NE(r.status().message().find("no GLSL twin"), std::string::npos) << r.status().message();
     return;

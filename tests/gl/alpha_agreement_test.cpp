@@ -11,11 +11,11 @@
 
 #include <glm/geometric.hpp>
 
+#include "builtin/builtin_room.h"
 #include "gl/gl_backend.h"
 #include "gl_test_util.h"
 #include "render/compare.h"
 #include "render/render.h"
-#include "scene/builtin_room.h"
 #include "scene/mesh_prep.h"
 
 namespace relief {
@@ -101,9 +101,9 @@ Scene alpha_scene(const std::string& technique) {
 
 TEST(GlAlpha, MaskShadowAndBlendAgreeWithCpu) {
   RELIEF_REQUIRE_GL();
-  Result<std::unique_ptr<Backend>> gl = make_gl_backend(-1);
+  Result<std::unique_ptr<Backend>> gl = make_gl_backend();
   ASSERT_TRUE(gl.ok()) << gl.status().message();
-  std::unique_ptr<Backend> cpu = make_cpu_backend(2);
+  std::unique_ptr<Backend> cpu = make_cpu_backend({.threads = 2});
   for (const std::string technique : {"flat", "relief"}) {
     SCOPED_TRACE(technique);
     const Scene s = alpha_scene(technique);
@@ -111,8 +111,8 @@ TEST(GlAlpha, MaskShadowAndBlendAgreeWithCpu) {
     opt.width = opt.height = kSize;
     Result<Plan> plan = make_plan(s, opt);
     ASSERT_TRUE(plan.ok()) << plan.status().message();
-    Result<RenderResult> rc = cpu->render(s, *plan, opt);
-    Result<RenderResult> rg = (*gl)->render(s, *plan, opt);
+    Result<RenderResult> rc = cpu->render(s, *plan);
+    Result<RenderResult> rg = (*gl)->render(s, *plan);
     ASSERT_TRUE(rc.ok() && rg.ok());
     const ImageDiff d = compare_images(rc->framebuffer.color, rg->framebuffer.color);
     EXPECT_GE(d.psnr_db, 35.0);

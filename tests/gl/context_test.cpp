@@ -64,7 +64,7 @@ TEST(Context, MissingDeviceIsOneLineError) {
   ASSERT_FALSE(c.ok());
   EXPECT_EQ(c.status().message().rfind("no EGL display", 0), 0u) << c.status().message();
   EXPECT_EQ(c.status().message().find('\n'), std::string::npos);
-  Result<std::unique_ptr<Backend>> b = make_gl_backend(100000);
+  Result<std::unique_ptr<Backend>> b = make_gl_backend({.gpu = 100000});
   ASSERT_FALSE(b.ok());
   EXPECT_EQ(b.status().exit_code(), 1);
 }

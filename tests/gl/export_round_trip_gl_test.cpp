@@ -7,10 +7,10 @@
 #include <filesystem>
 #include <string>
 
+#include "builtin/builtin.h"
 #include "gl/gl_backend.h"
 #include "gl_test_util.h"
 #include "render/render.h"
-#include "scene/builtin.h"
 #include "scene/gltf.h"
 #include "tests/test_dir.h"
 
@@ -19,7 +19,7 @@ namespace {
 
 TEST(ExportRoundTripGl, ImpostorAndBendingRenderAsTheBuiltinsOnGl) {
   RELIEF_REQUIRE_GL();
-  Result<std::unique_ptr<Backend>> gl = make_gl_backend(-1);
+  Result<std::unique_ptr<Backend>> gl = make_gl_backend();
   ASSERT_TRUE(gl.ok()) << gl.status().message();
   const std::filesystem::path dir = test::fresh_test_dir("export_rt_gl");
   for (const char* name : {"impostor", "bending"}) {
@@ -37,7 +37,7 @@ TEST(ExportRoundTripGl, ImpostorAndBendingRenderAsTheBuiltinsOnGl) {
     for (int i = 0; i < 2; ++i) {
       Result<Plan> plan = make_plan(*scenes[i], opt);
       ASSERT_TRUE(plan.ok()) << plan.status().message();
-      Result<RenderResult> r = (*gl)->render(*scenes[i], *plan, opt);
+      Result<RenderResult> r = (*gl)->render(*scenes[i], *plan);
       ASSERT_TRUE(r.ok()) << r.status().message();
       f[i] = r->framebuffer;
     }

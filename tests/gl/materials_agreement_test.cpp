@@ -62,7 +62,7 @@ MaterialDoc everything(const std::filesystem::path& dir, const json& relief_ext)
 // One GL backend for the whole program: its programs compile once.
 Backend* gl_backend() {
   static std::unique_ptr<Backend> gl = [] {
-    Result<std::unique_ptr<Backend>> b = make_gl_backend(-1);
+    Result<std::unique_ptr<Backend>> b = make_gl_backend();
     EXPECT_TRUE(b.ok()) << b.status().message();
     return b.ok() ? std::move(*b) : nullptr;
   }();
@@ -78,12 +78,12 @@ void expect_agreement(const std::string& path, const std::string& label) {
   opt.height = kSize;
   Result<Plan> plan = make_plan(*scene, opt);
   ASSERT_TRUE(plan.ok()) << plan.status().message();
-  std::unique_ptr<Backend> cpu = make_cpu_backend(2);
-  Result<RenderResult> rc = cpu->render(*scene, *plan, opt);
+  std::unique_ptr<Backend> cpu = make_cpu_backend({.threads = 2});
+  Result<RenderResult> rc = cpu->render(*scene, *plan);
   ASSERT_TRUE(rc.ok()) << rc.status().message();
   Backend* gl = gl_backend();
   ASSERT_NE(gl, nullptr);
-  Result<RenderResult> rg = gl->render(*scene, *plan, opt);
+  Result<RenderResult> rg = gl->render(*scene, *plan);
   ASSERT_TRUE(rg.ok()) << rg.status().message();
   const ImageDiff d = compare_images(rc->framebuffer.color, rg->framebuffer.color, 8.0f / 255.0f);
   const double off = static_cast<double>(d.over_count) / (kSize * kSize);

@@ -21,13 +21,13 @@
 #include <nlohmann/json.hpp>
 
 #include "bake/normal_map.h"
+#include "builtin/builtin_curved.h"
+#include "builtin/builtin_parts.h"
 #include "gl/gl_backend.h"
 #include "gl_test_util.h"
 #include "normal_map_convention_data.h"
 #include "render/compare.h"
 #include "render/render.h"
-#include "scene/builtin_curved.h"
-#include "scene/builtin_parts.h"
 #include "scene/gltf.h"
 #include "scene/mesh_prep.h"
 #include "tests/test_dir.h"
@@ -111,7 +111,7 @@ std::string write_file(const std::filesystem::path& dir, const std::string& name
 }
 
 struct Backends {
-  std::unique_ptr<Backend> cpu = make_cpu_backend(2);
+  std::unique_ptr<Backend> cpu = make_cpu_backend({.threads = 2});
   std::unique_ptr<Backend> gl;  // null without a context
   Backends() {
     std::string why;
@@ -128,11 +128,10 @@ Image render_file(Backend& backend, const std::string& path, int size) {
   if (!s.ok()) return Image(size, size);
   RenderOptions opt;
   opt.width = opt.height = size;
-  opt.threads = 2;
   Result<Plan> plan = make_plan(*s, opt);
   EXPECT_TRUE(plan.ok()) << plan.status().message();
   if (!plan.ok()) return Image(size, size);
-  Result<RenderResult> r = backend.render(*s, *plan, opt);
+  Result<RenderResult> r = backend.render(*s, *plan);
   EXPECT_TRUE(r.ok()) << r.status().message();
   return r.ok() ? r->framebuffer.color : Image(size, size);
 }
@@ -289,10 +288,9 @@ TEST(NormalMapConvention, ReliefOnAFileWithTangentMatchesComputedTangents) {
     flat->materials[0].params["depth_scale"] = 0.0f;
     RenderOptions opt;
     opt.width = opt.height = 96;
-    opt.threads = 2;
     Result<Plan> plan = make_plan(*flat, opt);
     ASSERT_TRUE(plan.ok()) << plan.status().message();
-    Result<RenderResult> r = be->render(*flat, *plan, opt);
+    Result<RenderResult> r = be->render(*flat, *plan);
     ASSERT_TRUE(r.ok());
     EXPECT_LT(compare_images(a, r->framebuffer.color).psnr_db, 30.0);
     std::printf("[   info   ] %s: relief, PSNR without vs with TANGENT %.2f dB\n",

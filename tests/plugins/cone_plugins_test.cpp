@@ -17,12 +17,12 @@
 #include <vector>
 
 #include "bake/cone_map.h"
+#include "builtin/builtin.h"
 #include "packet_fixture.h"
 #include "plugins/builtin.h"
 #include "plugins/registry.h"
 #include "render/derived_maps.h"
 #include "render/render.h"
-#include "scene/builtin.h"
 #include "tests/test_dir.h"
 
 namespace relief {
@@ -151,14 +151,13 @@ RenderResult render_scene(const std::string& scene_name, const std::string& tech
   RenderOptions opt;
   opt.width = 160;
   opt.height = 90;
-  opt.threads = 2;
   opt.technique = technique;
   opt.aovs = aov_bit(Aov::kHitUv) | aov_bit(Aov::kHitDepth);
   Result<Plan> plan = make_plan(*scene, opt);
   EXPECT_TRUE(plan.ok()) << plan.status().message();
   if (!plan.ok()) return {};
   if (explain) *explain = plan->explain();
-  Result<RenderResult> r = make_cpu_backend(2)->render(*scene, *plan, opt);
+  Result<RenderResult> r = make_cpu_backend({.threads = 2})->render(*scene, *plan);
   EXPECT_TRUE(r.ok());
   if (!r.ok()) return {};
   const Framebuffer& fb = r->framebuffer;

@@ -2,9 +2,9 @@
 
 #include <fstream>
 
+#include "builtin/builtin.h"
 #include "plugins/registry.h"
 #include "render/render.h"
-#include "scene/builtin.h"
 
 namespace relief {
 namespace {
@@ -23,13 +23,12 @@ TEST(ExternalPlugin, LoadsAndRenders) {
   RenderOptions opt;
   opt.width = 64;
   opt.height = 48;
-  opt.threads = 2;
   opt.technique = "fixture_solid";
   opt.params["red"] = "0.5";
   Result<Plan> plan = make_plan(*scene, opt);
   ASSERT_TRUE(plan.ok()) << plan.status().message();
-  auto backend = make_cpu_backend(2);
-  Result<RenderResult> r = backend->render(*scene, *plan, opt);
+  auto backend = make_cpu_backend({.threads = 2});
+  Result<RenderResult> r = backend->render(*scene, *plan);
   ASSERT_TRUE(r.ok());
   // The bottom row looks at the plane: painted by the plugin.
   const glm::vec4 c = r->framebuffer.color.at(32, 47);

@@ -9,8 +9,8 @@
 #include <vector>
 
 #include "base/simd.h"
+#include "builtin/builtin.h"
 #include "render/render.h"
-#include "scene/builtin.h"
 
 namespace relief {
 namespace {
@@ -19,10 +19,9 @@ namespace {
 class SceneFrames {
  public:
   explicit SceneFrames(const char* scene = "plane")
-      : scene_(make_builtin_scene(scene)), backend_(make_cpu_backend(2)) {
+      : scene_(make_builtin_scene(scene)), backend_(make_cpu_backend({.threads = 2})) {
     opt_.width = 240;
     opt_.height = 136;
-    opt_.threads = 2;
     opt_.aovs = aov_bit(Aov::kHitUv) | aov_bit(Aov::kNormal);
   }
   Framebuffer frame(const char* technique, bool scalar_lanes) {
@@ -30,7 +29,7 @@ class SceneFrames {
     opt_.scalar_lanes = scalar_lanes;
     Result<Plan> plan = make_plan(*scene_, opt_);
     EXPECT_TRUE(plan.ok()) << plan.status().message();
-    Result<RenderResult> r = backend_->render(*scene_, *plan, opt_);
+    Result<RenderResult> r = backend_->render(*scene_, *plan);
     EXPECT_TRUE(r.ok());
     return std::move(r).value().framebuffer;
   }

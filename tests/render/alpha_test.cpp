@@ -12,8 +12,8 @@
 #include <OpenImageIO/imageio.h>
 #include <glm/geometric.hpp>
 
+#include "builtin/builtin_room.h"
 #include "render/render.h"
-#include "scene/builtin_room.h"
 #include "scene/gltf.h"
 #include "scene/image_io.h"
 #include "scene/mesh_prep.h"
@@ -79,11 +79,10 @@ RenderResult render(const Scene& scene, int threads = 2, int tile = 64, int w = 
   RenderOptions opt;
   opt.width = w;
   opt.height = h;
-  opt.threads = threads;
-  opt.tile_size = tile;
   Result<Plan> plan = make_plan(scene, opt);
   EXPECT_TRUE(plan.ok()) << plan.status().message();
-  Result<RenderResult> r = make_cpu_backend(threads)->render(scene, *plan, opt);
+  Result<RenderResult> r =
+      make_cpu_backend({.threads = threads, .tile_size = tile})->render(scene, *plan);
   EXPECT_TRUE(r.ok()) << r.status().message();
   return std::move(r).value();
 }

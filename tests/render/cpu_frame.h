@@ -7,7 +7,7 @@
 
 #include <gtest/gtest.h>
 
-#include "render/render.h"
+#include "render/renderer.h"
 
 namespace relief::test {
 
@@ -16,7 +16,6 @@ inline RenderOptions cpu_options(int width, int height, const std::string& techn
   RenderOptions opt;
   opt.width = width;
   opt.height = height;
-  opt.threads = 2;
   opt.technique = technique;
   return opt;
 }
@@ -24,13 +23,11 @@ inline RenderOptions cpu_options(int width, int height, const std::string& techn
 // `scene` planned and rendered with `opt` on a 2-thread CPU backend; nullopt (and a test failure
 // naming opt.technique) when planning or rendering fails.
 inline std::optional<Framebuffer> render_frame(const Scene& scene, const RenderOptions& opt) {
-  Result<Plan> plan = make_plan(scene, opt);
-  EXPECT_TRUE(plan.ok()) << opt.technique << ": " << plan.status().message();
-  if (!plan.ok()) return std::nullopt;
-  Result<RenderResult> r = make_cpu_backend(2)->render(scene, *plan, opt);
-  EXPECT_TRUE(r.ok()) << opt.technique;
-  if (!r.ok()) return std::nullopt;
-  return std::move(r->framebuffer);
+  Renderer renderer(make_cpu_backend({.threads = 2}));
+  Result<Frame> frame = renderer.render(scene, opt);
+  EXPECT_TRUE(frame.ok()) << opt.technique << ": " << frame.status().message();
+  if (!frame.ok()) return std::nullopt;
+  return std::move(frame->result.framebuffer);
 }
 
 }  // namespace relief::test

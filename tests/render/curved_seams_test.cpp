@@ -12,14 +12,14 @@
 
 #include <gtest/gtest.h>
 
+#include "builtin/builtin.h"
 #include "render/render.h"
-#include "scene/builtin.h"
 #include "tests/render/cpu_frame.h"
 
 namespace relief {
 namespace {
 
-// The bumps pattern of scene/builtin_curved.cpp: 4 x 4 cells per uv unit, a dome of radius 0.4
+// The bumps pattern of builtin/builtin_curved.cpp: 4 x 4 cells per uv unit, a dome of radius 0.4
 // cell in each; the floor is where r^2 / 0.16 > 1.3 (beyond the dome and its rim ramp).
 bool on_floor(float u, float v) {
   const float fu = u * 4.0f - std::floor(u * 4.0f) - 0.5f;

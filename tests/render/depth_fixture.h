@@ -2,7 +2,7 @@
 // field `exact` intersects at every distance, so any difference is the search's alone.
 #pragma once
 
-#include "scene/builtin.h"
+#include "builtin/builtin.h"
 #include "scene/scene.h"
 
 namespace relief {

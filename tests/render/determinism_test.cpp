@@ -2,8 +2,8 @@
 
 #include <cmath>
 
-#include "render/render.h"
-#include "scene/builtin.h"
+#include "builtin/builtin.h"
+#include "render/renderer.h"
 
 namespace relief {
 namespace {
@@ -15,17 +15,13 @@ RenderResult render_plane(int threads, int tile, const std::string& technique, b
   RenderOptions opt;
   opt.width = 200;
   opt.height = 150;
-  opt.threads = threads;
-  opt.tile_size = tile;
   opt.technique = technique;
   opt.scalar_lanes = scalar;
   opt.aovs = aov_bit(Aov::kHitUv) | aov_bit(Aov::kNormal);
-  Result<Plan> plan = make_plan(*scene, opt);
-  EXPECT_TRUE(plan.ok()) << plan.status().message();
-  auto backend = make_cpu_backend(threads);
-  Result<RenderResult> r = backend->render(*scene, *plan, opt);
-  EXPECT_TRUE(r.ok());
-  return std::move(r).value();
+  Renderer renderer(make_cpu_backend({.threads = threads, .tile_size = tile}));
+  Result<Frame> frame = renderer.render(*scene, opt);
+  EXPECT_TRUE(frame.ok()) << frame.status().message();
+  return std::move(frame->result);
 }
 
 bool identical(const Framebuffer& a, const Framebuffer& b) {

@@ -17,9 +17,9 @@
 #include <sstream>
 #include <string>
 
+#include "builtin/builtin.h"
 #include "plugins/registry.h"
 #include "render/render.h"
-#include "scene/builtin.h"
 #include "tests/sanitized.h"
 
 namespace relief {
@@ -72,7 +72,7 @@ TEST(Golden, EveryBuiltinSceneAndTechniqueRendersItsRecordedImage) {
     ASSERT_FALSE(golden.empty()) << golden_path() << " is missing or empty";
   }
   std::map<std::string, std::string> now;
-  std::unique_ptr<Backend> cpu = make_cpu_backend(2);
+  std::unique_ptr<Backend> cpu = make_cpu_backend({.threads = 2});
   for (const BuiltinSceneInfo& info : builtin_scenes()) {
     Result<Scene> scene = make_builtin_scene(info.name);
     ASSERT_TRUE(scene.ok()) << scene.status().message();
@@ -83,7 +83,6 @@ TEST(Golden, EveryBuiltinSceneAndTechniqueRendersItsRecordedImage) {
       RenderOptions opt;
       opt.width = 128;
       opt.height = 96;
-      opt.threads = 2;
       opt.technique = t;
       Result<Plan> plan = make_plan(*scene, opt);
       if (!plan.ok()) {  // e.g. relief_dual on a scene without a back layer: not listed
@@ -91,7 +90,7 @@ TEST(Golden, EveryBuiltinSceneAndTechniqueRendersItsRecordedImage) {
             << key << " is listed but no longer plans: " << plan.status().message();
         continue;
       }
-      Result<RenderResult> r = cpu->render(*scene, *plan, opt);
+      Result<RenderResult> r = cpu->render(*scene, *plan);
       ASSERT_TRUE(r.ok()) << key << ": " << r.status().message();
       now[key] = hash_of(r->framebuffer);
     }

@@ -10,8 +10,8 @@
 #include <cstdio>
 
 #include "bake/dual_depth.h"
-#include "scene/builtin.h"
-#include "scene/builtin_curved.h"
+#include "builtin/builtin.h"
+#include "builtin/builtin_curved.h"
 #include "tests/render/coverage.h"
 
 namespace relief {
@@ -120,7 +120,7 @@ TEST(DualDepth, ConstantBackLayerCountsNoFetches) {
     const RenderOptions opt = test::cpu_options(256, 192, techniques[i]);
     Result<Plan> plan = make_plan(*scene, opt);
     ASSERT_TRUE(plan.ok()) << plan.status().message();
-    Result<RenderResult> r = make_cpu_backend(2)->render(*scene, *plan, opt);
+    Result<RenderResult> r = make_cpu_backend({.threads = 2})->render(*scene, *plan);
     ASSERT_TRUE(r.ok());
     for (const PassStats& p : r->passes)
       if (p.kind == PassPlan::Kind::kMain) counted[i] += p.raster.work;

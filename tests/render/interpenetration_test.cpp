@@ -5,9 +5,9 @@
 
 #include <vector>
 
+#include "builtin/builtin.h"
 #include "render/depth_fixture.h"
 #include "render/render.h"
-#include "scene/builtin.h"
 
 namespace relief {
 namespace {
@@ -17,11 +17,10 @@ std::vector<uint8_t> sphere_mask(const Scene& scene, int w, int h) {
   RenderOptions opt;
   opt.width = w;
   opt.height = h;
-  opt.threads = 2;
   opt.aovs = aov_bit(Aov::kSteps);
   Result<Plan> plan = make_plan(scene, opt);
   EXPECT_TRUE(plan.ok()) << plan.status().message();
-  Result<RenderResult> r = make_cpu_backend(2)->render(scene, *plan, opt);
+  Result<RenderResult> r = make_cpu_backend({.threads = 2})->render(scene, *plan);
   EXPECT_TRUE(r.ok());
   const Framebuffer& fb = r->framebuffer;
   std::vector<uint8_t> mask(size_t(w) * h);

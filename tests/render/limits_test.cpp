@@ -5,8 +5,8 @@
 
 #include <string>
 
+#include "builtin/builtin.h"
 #include "render/render.h"
-#include "scene/builtin.h"
 
 namespace relief {
 namespace {

@@ -35,14 +35,13 @@ Frame render_file(const std::string& path, const std::string& technique = "", Ao
   RenderOptions opt;
   opt.width = kSize;
   opt.height = kSize;
-  opt.threads = 2;
   opt.technique = technique;
   opt.aovs = aovs;
   Result<Plan> plan = make_plan(f.scene, opt);
   EXPECT_TRUE(plan.ok()) << plan.status().message();
   if (!plan.ok()) return f;
-  std::unique_ptr<Backend> cpu = make_cpu_backend(2);
-  Result<RenderResult> r = cpu->render(f.scene, *plan, opt);
+  std::unique_ptr<Backend> cpu = make_cpu_backend({.threads = 2});
+  Result<RenderResult> r = cpu->render(f.scene, *plan);
   EXPECT_TRUE(r.ok()) << r.status().message();
   if (r.ok()) f.fb = std::move(r->framebuffer);
   return f;

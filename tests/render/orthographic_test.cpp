@@ -3,8 +3,8 @@
 // the same for every pixel. (Taking the view vector as normalize(eye - p) breaks this.)
 #include <gtest/gtest.h>
 
+#include "builtin/builtin.h"
 #include "render/render.h"
-#include "scene/builtin.h"
 
 namespace relief {
 namespace {
@@ -25,7 +25,7 @@ TEST(Orthographic, FlatAndNormalShadeAPlaneUniformlyUnderParallelEyeRays) {
     opt.height = 48;
     Result<Plan> plan = make_plan(*scene, opt);
     ASSERT_TRUE(plan.ok()) << plan.status().message();
-    Result<RenderResult> r = make_cpu_backend(2)->render(*scene, *plan, opt);
+    Result<RenderResult> r = make_cpu_backend({.threads = 2})->render(*scene, *plan);
     ASSERT_TRUE(r.ok());
     const Framebuffer& fb = r->framebuffer;
     int covered = 0;

@@ -10,10 +10,10 @@
 
 #include <nlohmann/json.hpp>
 
+#include "builtin/builtin.h"
+#include "builtin/builtin_room.h"
 #include "plugins/registry.h"
 #include "render/render.h"
-#include "scene/builtin.h"
-#include "scene/builtin_room.h"
 
 namespace relief {
 namespace {
@@ -22,7 +22,6 @@ RenderOptions small_options() {
   RenderOptions opt;
   opt.width = 160;
   opt.height = 120;
-  opt.threads = 2;
   return opt;
 }
 
@@ -47,7 +46,7 @@ Plan plan_of(const Scene& s, const RenderOptions& opt = small_options()) {
 
 RenderResult render(const Scene& s, const RenderOptions& opt = small_options()) {
   const Plan p = plan_of(s, opt);
-  Result<RenderResult> r = make_cpu_backend(opt.threads)->render(s, p, opt);
+  Result<RenderResult> r = make_cpu_backend({.threads = 2})->render(s, p);
   EXPECT_TRUE(r.ok()) << r.status().message();
   return std::move(r).value();
 }

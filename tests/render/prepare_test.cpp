@@ -8,8 +8,8 @@
 
 #include <glm/gtc/matrix_transform.hpp>
 
+#include "builtin/builtin.h"
 #include "render/render.h"
-#include "scene/builtin.h"
 #include "scene/mesh_prep.h"
 
 namespace relief {

@@ -2,8 +2,8 @@
 // clearing their own pixels) must not change a single bit of any frame.
 #include <gtest/gtest.h>
 
+#include "builtin/builtin.h"
 #include "render/render.h"
-#include "scene/builtin.h"
 
 namespace relief {
 namespace {
@@ -23,7 +23,7 @@ RenderResult render_with(Backend& backend, Frame f) {
   opt.aovs = aov_bit(Aov::kHitUv) | aov_bit(Aov::kHitDepth) | aov_bit(Aov::kSteps);
   Result<Plan> plan = make_plan(*scene, opt);
   EXPECT_TRUE(plan.ok()) << plan.status().message();
-  Result<RenderResult> r = backend.render(*scene, *plan, opt);
+  Result<RenderResult> r = backend.render(*scene, *plan);
   EXPECT_TRUE(r.ok());
   return std::move(r).value();
 }
@@ -37,9 +37,9 @@ TEST(Recycle, AFrameOnRecycledBuffersEqualsOneOnFreshBuffers) {
   // leave different colour, depth and AOVs behind for the next frame to clear.
   const Frame frames[] = {{"room", "relief"},  {"plane", "exact"}, {"room", "relief"},
                           {"pattern", "flat"}, {"room", "pom"},    {"pattern", "relief"}};
-  auto reused = make_cpu_backend(2);
+  auto reused = make_cpu_backend({.threads = 2});
   for (const Frame& f : frames) {
-    RenderResult fresh = render_with(*make_cpu_backend(2), f);
+    RenderResult fresh = render_with(*make_cpu_backend({.threads = 2}), f);
     RenderResult again = render_with(*reused, f);
     EXPECT_TRUE(identical(fresh.framebuffer, again.framebuffer)) << f.scene << " " << f.technique;
     reused->recycle(std::move(again));

@@ -10,8 +10,8 @@
 #include <glm/matrix.hpp>
 #include <glm/trigonometric.hpp>
 
+#include "builtin/builtin_room.h"
 #include "render/render.h"
-#include "scene/builtin_room.h"
 #include "scene/mesh_prep.h"
 
 namespace relief {
@@ -74,13 +74,12 @@ RenderResult render(const Scene& scene, int threads = 2, bool shadows = true, bo
   RenderOptions opt;
   opt.width = kW;
   opt.height = kH;
-  opt.threads = threads;
-  opt.tile_size = tile;
   opt.shadows = shadows;
   opt.scalar_lanes = scalar;
   Result<Plan> plan = make_plan(scene, opt);
   EXPECT_TRUE(plan.ok()) << plan.status().message();
-  Result<RenderResult> r = make_cpu_backend(threads)->render(scene, *plan, opt);
+  Result<RenderResult> r =
+      make_cpu_backend({.threads = threads, .tile_size = tile})->render(scene, *plan);
   EXPECT_TRUE(r.ok()) << r.status().message();
   return std::move(r).value();
 }

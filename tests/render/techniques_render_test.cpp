@@ -18,10 +18,10 @@
 
 #include <glm/gtc/matrix_transform.hpp>
 
+#include "builtin/builtin.h"
 #include "plugins/registry.h"
 #include "render/depth_fixture.h"
 #include "render/render.h"
-#include "scene/builtin.h"
 #include "shaders_cpp/exact.h"
 #include "shaders_cpp/miss_analysis.h"
 #include "sweep/sweep.h"

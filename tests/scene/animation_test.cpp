@@ -10,8 +10,8 @@
 
 #include <glm/geometric.hpp>
 
+#include "builtin/builtin_bending.h"
 #include "render/render.h"
-#include "scene/builtin_bending.h"
 #include "scene/mesh_prep.h"
 #include "tests/render/cpu_frame.h"
 

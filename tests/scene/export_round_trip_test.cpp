@@ -11,9 +11,9 @@
 #include <string>
 #include <vector>
 
+#include "builtin/builtin.h"
 #include "render/render.h"
 #include "scene/animation.h"
-#include "scene/builtin.h"
 #include "scene/gltf.h"
 #include "tests/test_dir.h"
 
@@ -28,11 +28,10 @@ Framebuffer render_cpu(const Scene& s, int w, int h) {
   RenderOptions opt;
   opt.width = w;
   opt.height = h;
-  opt.threads = 2;
   Result<Plan> plan = make_plan(s, opt);
   EXPECT_TRUE(plan.ok()) << plan.status().message();
   if (!plan.ok()) return {};
-  Result<RenderResult> r = make_cpu_backend(2)->render(s, *plan, opt);
+  Result<RenderResult> r = make_cpu_backend({.threads = 2})->render(s, *plan);
   EXPECT_TRUE(r.ok()) << r.status().message();
   return r.ok() ? r->framebuffer : Framebuffer{};
 }

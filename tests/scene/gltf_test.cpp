@@ -18,9 +18,9 @@
 #include <nlohmann/json.hpp>
 
 #include "apps/scene_source.h"
+#include "builtin/builtin.h"
 #include "render/render.h"
 #include "scene/animation.h"
-#include "scene/builtin.h"
 #include "scene/image_io.h"
 #include "tests/test_dir.h"
 
@@ -151,12 +151,11 @@ Framebuffer render(const Scene& s, int w, int h, int camera = 0) {
   RenderOptions opt;
   opt.width = w;
   opt.height = h;
-  opt.threads = 2;
   opt.camera = camera;
   Result<Plan> plan = make_plan(s, opt);
   EXPECT_TRUE(plan.ok()) << plan.status().message();
   if (!plan.ok()) return {};
-  Result<RenderResult> r = make_cpu_backend(2)->render(s, *plan, opt);
+  Result<RenderResult> r = make_cpu_backend({.threads = 2})->render(s, *plan);
   EXPECT_TRUE(r.ok()) << r.status().message();
   return r.ok() ? r->framebuffer : Framebuffer{};
 }

@@ -9,7 +9,7 @@
 #include <filesystem>
 #include <string>
 
-#include "scene/builtin.h"
+#include "builtin/builtin.h"
 #include "scene/gltf.h"
 #include "tests/test_dir.h"
 

@@ -16,9 +16,9 @@
 
 #include <nlohmann/json.hpp>
 
+#include "builtin/builtin.h"
 #include "png_header.h"
 #include "rasterizer/safe_file.h"
-#include "scene/builtin.h"
 #include "scene/gltf.h"
 #include "scene/image_io.h"
 #include "tests/test_dir.h"

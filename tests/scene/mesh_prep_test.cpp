@@ -1,6 +1,6 @@
 // Tests for scene/mesh_prep: tangent frames (MikkTSpace-style, mirrored seams, degenerate uv) and
 // the per-vertex quadric fit of Oliveira and Policarpo 2005, equation 2, on surfaces of known
-// curvature (scene/builtin_curved.h).
+// curvature (builtin/builtin_curved.h).
 #include "scene/mesh_prep.h"
 
 #include <algorithm>
@@ -9,7 +9,7 @@
 #include <gtest/gtest.h>
 #include <glm/geometric.hpp>
 
-#include "scene/builtin_curved.h"
+#include "builtin/builtin_curved.h"
 
 namespace relief {
 namespace {

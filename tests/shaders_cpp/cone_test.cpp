@@ -15,9 +15,9 @@
 #include <vector>
 
 #include "bake/cone_map.h"
+#include "builtin/builtin.h"
 #include "field_fixture.h"
 #include "sanitized.h"
-#include "scene/builtin.h"
 #include "shaders_cpp/exact.h"
 #include "shaders_cpp/ray.h"
 #include "shaders_cpp/shadow.h"

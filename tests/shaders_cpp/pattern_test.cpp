@@ -1,4 +1,4 @@
-// The `pattern` depth map (scene/builtin.h make_pattern_depth) as a height field: it has the
+// The `pattern` depth map (builtin/builtin.h make_pattern_depth) as a height field: it has the
 // one-texel walls it promises, and the exact reference (shaders_cpp/exact.h, Tevs et al. 2008
 // max-mip traversal) never reports a hit later than a dense brute-force march on it.
 #include <gtest/gtest.h>
@@ -6,8 +6,8 @@
 #include <cmath>
 #include <random>
 
+#include "builtin/builtin.h"
 #include "field_fixture.h"
-#include "scene/builtin.h"
 #include "shaders_cpp/exact.h"
 
 namespace relief {

@@ -16,9 +16,9 @@
 #include <vector>
 
 #include "bake/cone_map.h"
+#include "builtin/builtin.h"
 #include "field_fixture.h"
 #include "sanitized.h"
-#include "scene/builtin.h"
 #include "shaders_cpp/cone.h"
 #include "shaders_cpp/exact.h"
 #include "shaders_cpp/quadric.h"

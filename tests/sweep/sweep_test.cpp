@@ -12,9 +12,9 @@
 #include <set>
 #include <string>
 
+#include "builtin/builtin.h"
 #include "plugins/registry.h"
 #include "render/render.h"
-#include "scene/builtin.h"
 #include "shaders_cpp/exact.h"
 #include "sweep/sweep.h"
 #include "tests/render/cpu_frame.h"
@@ -183,13 +183,12 @@ TEST(Sweep, PerFragmentWorkAddsUpToTheFrameCounters) {
     const Scene scene = view_scene(field, 60, 40, 40);
     RenderOptions ro;
     ro.width = ro.height = 40;
-    ro.threads = 2;
     ro.technique = s.technique;
     ro.params = s.params;
     ro.shadows = false;
     Result<Plan> plan = make_plan(scene, ro);
     ASSERT_TRUE(plan.ok());
-    Result<RenderResult> fr = make_cpu_backend(2)->render(scene, *plan, ro);
+    Result<RenderResult> fr = make_cpu_backend({.threads = 2})->render(scene, *plan);
     ASSERT_TRUE(fr.ok());
     WorkCounters w;
     for (const PassStats& p : fr->passes) w += p.raster.work;
@@ -209,7 +208,6 @@ TEST(Sweep, ViewRayStepIsTheOneExactHitsLieOn) {
     const Scene scene = view_scene(field, angle, 40, 40);
     RenderOptions ro;
     ro.width = ro.height = 40;
-    ro.threads = 2;
     ro.shadows = false;
     ro.aovs = aov_bit(Aov::kHitUv) | aov_bit(Aov::kHitDepth);
     auto render = [&](const std::string& t) {
@@ -393,7 +391,6 @@ TEST(SweepAir, AirAndBelowCountHitsOffTheSurface) {
   const Scene scene = view_scene(thin, 30, 32, 32);
   RenderOptions ro;
   ro.width = ro.height = 32;
-  ro.threads = 2;
   ro.shadows = false;
   ro.technique = "normal";
   ro.aovs = aov_bit(Aov::kHitUv) | aov_bit(Aov::kHitDepth);

@@ -5,14 +5,14 @@
 //     (Oliveira and Policarpo 2005, figure 12: per fragment, the nearer relief surface wins);
 //   teatime: a relief teapot on a relief floor under a shadow-casting spot light (the teapot's
 //     relief casts into the shadow map and the floor receives it).
-#include "scene/builtin_showcase.h"
+#include "builtin/builtin_showcase.h"
 
 #include <algorithm>
 #include <cmath>
 
-#include "scene/builtin_curved.h"
-#include "scene/builtin_parts.h"
-#include "scene/builtin_room.h"
+#include "builtin/builtin_curved.h"
+#include "builtin/builtin_parts.h"
+#include "builtin/builtin_room.h"
 #include "scene/mesh_prep.h"
 
 namespace relief {

@@ -1,5 +1,5 @@
 // The `bending` scene (see builtin_bending.h).
-#include "scene/builtin_bending.h"
+#include "builtin/builtin_bending.h"
 
 #include <algorithm>
 #include <cmath>
@@ -9,9 +9,9 @@
 #include <glm/trigonometric.hpp>
 
 #include "base/check.h"
+#include "builtin/builtin.h"
+#include "builtin/builtin_parts.h"
 #include "scene/animation.h"
-#include "scene/builtin.h"
-#include "scene/builtin_parts.h"
 #include "scene/mesh_prep.h"
 
 namespace relief {

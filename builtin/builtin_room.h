@@ -1,4 +1,4 @@
-// The built-in `room` scene (scene/builtin_room.cpp).
+// The built-in `room` scene (builtin/builtin_room.cpp).
 #pragma once
 
 #include <functional>

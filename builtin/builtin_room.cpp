@@ -5,7 +5,7 @@
 // its normal map, bake/normal_map.h), self-shadowed, depth-correcting, casting and receiving
 // shadows; one spot light casts shadows (shadow maps, render/shadow_map.h), a dim directional
 // fill light does not.
-#include "scene/builtin_room.h"
+#include "builtin/builtin_room.h"
 
 #include <algorithm>
 #include <cmath>
@@ -15,7 +15,7 @@
 #include <glm/geometric.hpp>
 
 #include "bake/normal_map.h"
-#include "scene/builtin_parts.h"
+#include "builtin/builtin_parts.h"
 #include "scene/mesh_prep.h"
 
 namespace relief {

@@ -1,5 +1,5 @@
 // Built-in scenes, generated in code so `relief render` works with no files.
-#include "scene/builtin.h"
+#include "builtin/builtin.h"
 
 #include <algorithm>
 #include <cmath>
@@ -9,12 +9,12 @@
 
 #include "bake/normal_map.h"
 #include "base/check.h"
-#include "scene/builtin_bending.h"
-#include "scene/builtin_curved.h"
-#include "scene/builtin_impostor.h"
-#include "scene/builtin_parts.h"
-#include "scene/builtin_room.h"
-#include "scene/builtin_showcase.h"
+#include "builtin/builtin_bending.h"
+#include "builtin/builtin_curved.h"
+#include "builtin/builtin_impostor.h"
+#include "builtin/builtin_parts.h"
+#include "builtin/builtin_room.h"
+#include "builtin/builtin_showcase.h"
 #include "scene/mesh_prep.h"
 
 namespace relief {

@@ -1,4 +1,4 @@
-// The built-in `interpenetration` and `teatime` scenes (scene/builtin_showcase.cpp).
+// The built-in `interpenetration` and `teatime` scenes (builtin/builtin_showcase.cpp).
 #pragma once
 
 #include "base/status.h"

@@ -1,4 +1,4 @@
-// Small parts the built-in scenes (scene/builtin*.cpp) share: a camera aimed at a point, a
+// Small parts the built-in scenes (builtin/builtin*.cpp) share: a camera aimed at a point, a
 // directional light and a shadow-casting spot light.
 #pragma once
 

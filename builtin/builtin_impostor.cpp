@@ -1,13 +1,13 @@
 // The built-in `impostor` scene: dual-depth relief textures (Policarpo, Oliveira and Comba,
 // "Real-Time Relief Mapping on Arbitrary Polygonal Surfaces", I3D 2005, section 3.1) of a sphere,
 // baked in code with our rasterizer and drawn with relief_dual on one quad.
-#include "scene/builtin_impostor.h"
+#include "builtin/builtin_impostor.h"
 
 #include <cmath>
 #include <memory>
 
-#include "scene/builtin_curved.h"
-#include "scene/builtin_parts.h"
+#include "builtin/builtin_curved.h"
+#include "builtin/builtin_parts.h"
 #include "scene/mesh_prep.h"
 
 namespace relief {

@@ -2,7 +2,7 @@
 // Representation for Surface Details", UFRGS RP-351, 2005 (figure 9: a cylinder and a teapot with
 // relief on their silhouettes; figure 14: the saddle region of a torus). The Utah teapot is
 // Newell's 1975 data set: 32 bicubic Bezier patches over 306 control points (z up in the data).
-#include "scene/builtin_curved.h"
+#include "builtin/builtin_curved.h"
 
 #include <algorithm>
 #include <cmath>
@@ -11,8 +11,8 @@
 
 #include <glm/geometric.hpp>
 
-#include "scene/builtin_parts.h"
-#include "scene/builtin_room.h"
+#include "builtin/builtin_parts.h"
+#include "builtin/builtin_room.h"
 #include "scene/mesh_prep.h"
 
 namespace relief {
