@@ -99,9 +99,9 @@ int run_bake_dual(const std::string& mesh_path, const std::string& prefix, int s
 
 namespace {
 
-int run_bake(const BakeArgs& a) {
-  if (a.dual)
-    return run_bake_dual(a.input, a.output, a.size, a.grow, a.threads, a.allow_outside_scene_dir);
+// The checks of the arguments before any input is read: 0 when they pass, else the exit code
+// (2 for usage) after fail()'s one line. `ext` is the output's lower-case extension.
+int check_bake_args(const BakeArgs& a, const std::string& ext) {
   if (a.normal == !a.cone.empty())
     return fail("bake: choose exactly one of --normal or --cone KIND", 2);
   if (a.depth_scale_given && !a.normal)
@@ -118,7 +118,6 @@ int run_bake(const BakeArgs& a) {
     return fail("bake: --max-ratio must be positive, finite and at most 65504", 2);
   if (a.threads < 0) return fail("bake: --threads must be >= 0 (0: all cores)", 2);
   if (a.bilinear && a.cone.empty()) return fail("bake: --bilinear applies to --cone only", 2);
-  const std::string ext = lower_ext(a.output);
   if (ext != ".png" && ext != ".exr" && ext != ".tif" && ext != ".tiff")
     return fail(a.output + ": unsupported output extension '" + ext +
                     "', expected .png, .exr, .tif or .tiff",
@@ -129,22 +128,108 @@ int run_bake(const BakeArgs& a) {
   // The output can be written (its folder exists and is writable, it is no directory) before
   // anything is baked; the write itself is atomic and checked (rasterizer/output_file.h).
   if (Status o = check_output_path(a.output); !o.ok()) return fail(o.message(), o.exit_code());
+  return 0;
+}
 
-  // A depth map has one channel: grey stored as RGB is fine, colour (R, G, B differ) is not.
-  {
-    Result<Texture> full = load_texture(a.input);
-    if (!full.ok()) return fail(full.status().message(), full.status().exit_code());
-    const Texture& t = full.value();
-    if (format_channels(t.format()) >= 3)
-      for (int y = 0; y < t.height(0); ++y)
-        for (int x = 0; x < t.width(0); ++x) {
-          const glm::vec4 c = t.fetch(0, x, y);
-          if (c.x != c.y || c.x != c.z)
-            return fail(printable(a.input) +
-                            ": a colour image (R, G and B differ); a depth map has one channel",
-                        1);
-        }
+// A depth map has one channel: grey stored as RGB is fine, colour (R, G, B differ) is not. 0 when
+// `input` loads and is no colour image, else the exit code after fail()'s line.
+int check_one_channel(const std::string& input) {
+  Result<Texture> full = load_texture(input);
+  if (!full.ok()) return fail(full.status().message(), full.status().exit_code());
+  const Texture& t = full.value();
+  if (format_channels(t.format()) >= 3)
+    for (int y = 0; y < t.height(0); ++y)
+      for (int x = 0; x < t.width(0); ++x) {
+        const glm::vec4 c = t.fetch(0, x, y);
+        if (c.x != c.y || c.x != c.z)
+          return fail(printable(input) +
+                          ": a colour image (R, G and B differ); a depth map has one channel",
+                      1);
+      }
+  return 0;
+}
+
+// --normal: the normal map of depth map `d`, written to a.output as its extension `ext` asks.
+Status bake_normal(const BakeArgs& a, const Texture& d, const std::string& ext) {
+  const int w = d.width(0), h = d.height(0);
+  const NormalConvention convention =
+      a.normal_convention == "directx" ? NormalConvention::kDirectX : NormalConvention::kGltf;
+  Image img(w, h);
+  if (ext == ".exr") {
+    Texture n = normal_map_from_depth_float(d, a.depth_scale, a.wrap, convention);
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x) {
+        glm::vec4 v = n.fetch(0, x, y);
+        img.at(x, y) = glm::vec4(glm::vec3(v) * 0.5f + 0.5f, 1.0f);
+      }
+  } else {
+    Texture n = normal_map_from_depth(d, a.depth_scale, a.wrap, convention);
+    const MipLevel& l0 = n.level(0);
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x) {
+        const uint8_t* p = &l0.data[(static_cast<size_t>(y) * w + x) * 4];
+        // PNG: the encoder applies sRGB, so hand it values that encode to the texel's bytes.
+        // TIFF is 16-bit linear: the 8-bit values as they are.
+        for (int c = 0; c < 3; ++c)
+          img.at(x, y)[c] = ext == ".png" ? srgb_decoded_byte(p[c]) : p[c] / 255.0f;
+        img.at(x, y).w = 1.0f;
+      }
   }
+  return write_image(a.output, img);
+}
+
+// The four ratios of a quad cone map as an image for `ext`: float in .exr, rounded down to the
+// 8 (.png) or 16 bits (.tif) the file holds.
+Image quad_cone_image(const ConeRatios& r, int w, int h, const std::string& ext) {
+  Image img(w, h);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x)
+      for (int c = 0; c < 4; ++c) {
+        const float v = r.at(x, y, c);
+        if (ext == ".exr") {
+          img.at(x, y)[c] = v;
+        } else if (ext == ".png") {
+          const int b = static_cast<int>(std::floor(v * 255.0f));
+          img.at(x, y)[c] = c < 3 ? srgb_decoded_byte(b) : b / 255.0f;  // alpha is linear
+        } else {
+          img.at(x, y)[c] = std::floor(v * 65535.0f) / 65535.0f;
+        }
+      }
+  return img;
+}
+
+// --cone KIND: the cone map of depth map `d` with a progress bar, written to a.output as its
+// extension `ext` asks; `what` names the map ("relaxed cone map").
+Status bake_cone(const BakeArgs& a, const Texture& d, const std::string& ext, std::string& what) {
+  const int w = d.width(0), h = d.height(0);
+  ConeBakeOptions o;
+  if (a.cone == "conservative")
+    o.kind = ConeKind::kConservative;
+  else if (a.cone == "quad")
+    o.kind = ConeKind::kQuad;
+  else
+    o.kind = ConeKind::kRelaxed;
+  o.max_ratio = a.max_ratio;
+  o.wrap = a.wrap;
+  o.bilinear = a.bilinear;
+  o.threads = a.threads;
+  what = std::string(cone_kind_name(o.kind)) + " cone map";
+  ProgressBar bar("baking " + what);
+  o.progress = [&bar](float f) { bar.update(f); };
+  ConeRatios r = bake_cone_ratios(d, o);
+  if (r.channels != 1) return write_image(a.output, quad_cone_image(r, w, h, ext));
+  Plane p(w, h);
+  for (size_t i = 0; i < p.values.size(); ++i)
+    p.values[i] = ext == ".png" ? std::floor(r.values[i] * 65535.0f) / 65535.0f : r.values[i];
+  return write_plane(a.output, p);
+}
+
+int run_bake(const BakeArgs& a) {
+  if (a.dual)
+    return run_bake_dual(a.input, a.output, a.size, a.grow, a.threads, a.allow_outside_scene_dir);
+  const std::string ext = lower_ext(a.output);
+  if (int code = check_bake_args(a, ext)) return code;
+  if (int code = check_one_channel(a.input)) return code;
   TextureLoadOptions lo;
   lo.first_channel_only = true;
   lo.height_to_depth = a.height;
@@ -152,79 +237,13 @@ int run_bake(const BakeArgs& a) {
   Result<Texture> depth = load_texture(a.input, lo);
   if (!depth.ok()) return fail(depth.status().message(), depth.status().exit_code());
   const Texture& d = depth.value();
-  const int w = d.width(0), h = d.height(0);
   const auto t0 = std::chrono::steady_clock::now();
-  std::string what;
-  Status st;
-
-  if (a.normal) {
-    what = "normal map";
-    const NormalConvention convention =
-        a.normal_convention == "directx" ? NormalConvention::kDirectX : NormalConvention::kGltf;
-    Image img(w, h);
-    if (ext == ".exr") {
-      Texture n = normal_map_from_depth_float(d, a.depth_scale, a.wrap, convention);
-      for (int y = 0; y < h; ++y)
-        for (int x = 0; x < w; ++x) {
-          glm::vec4 v = n.fetch(0, x, y);
-          img.at(x, y) = glm::vec4(glm::vec3(v) * 0.5f + 0.5f, 1.0f);
-        }
-    } else {
-      Texture n = normal_map_from_depth(d, a.depth_scale, a.wrap, convention);
-      const MipLevel& l0 = n.level(0);
-      for (int y = 0; y < h; ++y)
-        for (int x = 0; x < w; ++x) {
-          const uint8_t* p = &l0.data[(static_cast<size_t>(y) * w + x) * 4];
-          // PNG: the encoder applies sRGB, so hand it values that encode to the texel's bytes.
-          // TIFF is 16-bit linear: the 8-bit values as they are.
-          for (int c = 0; c < 3; ++c)
-            img.at(x, y)[c] = ext == ".png" ? srgb_decoded_byte(p[c]) : p[c] / 255.0f;
-          img.at(x, y).w = 1.0f;
-        }
-    }
-    st = write_image(a.output, img);
-  } else {
-    ConeBakeOptions o;
-    if (a.cone == "conservative")
-      o.kind = ConeKind::kConservative;
-    else if (a.cone == "quad")
-      o.kind = ConeKind::kQuad;
-    else
-      o.kind = ConeKind::kRelaxed;
-    o.max_ratio = a.max_ratio;
-    o.wrap = a.wrap;
-    o.bilinear = a.bilinear;
-    o.threads = a.threads;
-    what = std::string(cone_kind_name(o.kind)) + " cone map";
-    ProgressBar bar("baking " + what);
-    o.progress = [&bar](float f) { bar.update(f); };
-    ConeRatios r = bake_cone_ratios(d, o);
-    if (r.channels == 1) {
-      Plane p(w, h);
-      for (size_t i = 0; i < p.values.size(); ++i)
-        p.values[i] = ext == ".png" ? std::floor(r.values[i] * 65535.0f) / 65535.0f : r.values[i];
-      st = write_plane(a.output, p);
-    } else {
-      Image img(w, h);
-      for (int y = 0; y < h; ++y)
-        for (int x = 0; x < w; ++x)
-          for (int c = 0; c < 4; ++c) {
-            const float v = r.at(x, y, c);
-            if (ext == ".exr") {
-              img.at(x, y)[c] = v;
-            } else if (ext == ".png") {
-              const int b = static_cast<int>(std::floor(v * 255.0f));
-              img.at(x, y)[c] = c < 3 ? srgb_decoded_byte(b) : b / 255.0f;  // alpha is linear
-            } else {
-              img.at(x, y)[c] = std::floor(v * 65535.0f) / 65535.0f;
-            }
-          }
-      st = write_image(a.output, img);
-    }
-  }
+  std::string what = "normal map";
+  const Status st = a.normal ? bake_normal(a, d, ext) : bake_cone(a, d, ext, what);
   if (!st.ok()) return fail(st.message(), st.exit_code());
   const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  std::printf("baked %s %dx%d in %.2f s -> %s\n", what.c_str(), w, h, secs, a.output.c_str());
+  std::printf("baked %s %dx%d in %.2f s -> %s\n", what.c_str(), d.width(0), d.height(0), secs,
+              a.output.c_str());
   return 0;
 }
 
