@@ -204,21 +204,21 @@ int do_target(const BenchArgs& a, const sweep::Options& opt,
   return 0;
 }
 
-int do_bench(BenchArgs& a) {
-  sweep::Options opt;
-  if (a.quick) {  // defaults of the small sweep; explicit options still win
+// The sweep's options from the command line (--quick fills in the small sweep's defaults;
+// explicit options still win), and the step counts of --steps.
+Status parse_sweep_options(BenchArgs& a, sweep::Options& opt, std::vector<int>& step_counts) {
+  if (a.quick) {
     if (!a.sub->count("--size")) a.size = "128x128";
     if (!a.sub->count("--angles")) a.angles = "0,60,85";
     if (!a.sub->count("--steps")) a.steps = "8,32";
     if (!a.sub->count("--repeats")) a.repeats = 3;
   }
-  Status s = parse_size(a.size, opt.width, opt.height);
-  if (!s.ok()) return fail(s.message(), s.exit_code());
-  if (a.threads < 0 || a.threads > 256) return fail("--threads: expected 0..256", 2);
-  if (a.repeats < 1 || a.repeats > 1000) return fail("--repeats: expected 1..1000", 2);
-  if (a.warmup < 0 || a.warmup > 100) return fail("--warmup: expected 0..100", 2);
+  RELIEF_RETURN_IF_ERROR(parse_size(a.size, opt.width, opt.height));
+  if (a.threads < 0 || a.threads > 256) return Status::usage("--threads: expected 0..256");
+  if (a.repeats < 1 || a.repeats > 1000) return Status::usage("--repeats: expected 1..1000");
+  if (a.warmup < 0 || a.warmup > 100) return Status::usage("--warmup: expected 0..100");
   if (a.sub->count("--binary-steps") && (a.binary_steps < 0 || a.binary_steps > 32))
-    return fail("--binary-steps: expected 0..32", 2);
+    return Status::usage("--binary-steps: expected 0..32");
   opt.threads = a.threads;
   opt.repeats = a.repeats;
   opt.warmup = a.warmup;
@@ -228,32 +228,32 @@ int do_bench(BenchArgs& a) {
   else if (a.lod == "both")
     opt.lods = {sweep::kLodLevel0, sweep::kLodAsRendered};
   else
-    return fail("--lod: expected level0, as-rendered or both, got '" + a.lod + "'", 2);
+    return Status::usage("--lod: expected level0, as-rendered or both, got '" + a.lod + "'");
   Result<std::vector<double>> angles = parse_numbers("--angles", a.angles, 0.0, 89.9);
-  if (!angles.ok()) return fail(angles.status().message(), 2);
+  if (!angles.ok()) return Status::usage(angles.status().message());
   opt.angles = *angles;
   Result<std::vector<double>> steps = parse_numbers("--steps", a.steps, 1.0, 256.0);
-  if (!steps.ok()) return fail(steps.status().message(), 2);
-  std::vector<int> step_counts;
+  if (!steps.ok()) return Status::usage(steps.status().message());
   for (double x : *steps) step_counts.push_back(static_cast<int>(std::lround(x)));
   const std::vector<std::string> backends = split(a.backend);
   for (const std::string& b : backends) {
     if (b != "cpu" && b != "gl")
-      return fail("--backend: expected cpu, gl or cpu,gl, got '" + a.backend + "'", 2);
+      return Status::usage("--backend: expected cpu, gl or cpu,gl, got '" + a.backend + "'");
   }
   opt.gl = std::find(backends.begin(), backends.end(), "gl") != backends.end();
   // accuracy is always measured on the CPU backend; `gl` alone still needs its rows
   opt.cpu = true;
-  const bool target = a.sub->count("--target-error") > 0;
-  if (target && !(a.target_error > 0.0 && std::isfinite(a.target_error)))
-    return fail("--target-error: expected a positive number of texels", 2);
-  s = check_outputs(a);
-  if (!s.ok()) return fail(s.message(), s.exit_code());
-  for (const std::string& p : a.plugins) {
-    Status ls = load_plugin_arg(p);  // a bare name is ./NAME
-    if (!ls.ok()) return fail(ls.message(), ls.exit_code());
-  }
+  if (a.sub->count("--target-error") > 0 &&
+      !(a.target_error > 0.0 && std::isfinite(a.target_error)))
+    return Status::usage("--target-error: expected a positive number of texels");
+  return check_outputs(a);
+}
 
+// The settings of --techniques, --steps, --binary-steps and --search-lod (after --plugin loads).
+Result<std::vector<sweep::Setting>> parse_settings(const BenchArgs& a,
+                                                   const std::vector<int>& step_counts) {
+  for (const std::string& p : a.plugins)
+    RELIEF_RETURN_IF_ERROR(load_plugin_arg(p));  // a bare name is ./NAME
   std::vector<std::string> techniques = sweep::sweep_techniques();
   if (!a.techniques.empty()) {
     const std::vector<std::string> known = techniques;
@@ -262,23 +262,26 @@ int do_bench(BenchArgs& a) {
       if (std::find(known.begin(), known.end(), t) == known.end()) {
         std::string list;
         for (const std::string& k : known) list += (list.empty() ? "" : ", ") + k;
-        return fail("--techniques: '" + t + "' is not a technique with a depth map (" + list + ")",
-                    2);
+        return Status::usage("--techniques: '" + t + "' is not a technique with a depth map (" +
+                             list + ")");
       }
   }
   const std::vector<std::string> search_lods = split(a.search_lod);
   for (const std::string& l : search_lods)
     if (l != "quad" && l != "zero" && l != "max-mip")
-      return fail("--search-lod: expected quad, zero or max-mip (comma-separated), got '" + l + "'",
-                  2);
+      return Status::usage("--search-lod: expected quad, zero or max-mip (comma-separated), got '" +
+                           l + "'");
   std::vector<sweep::Setting> settings;
   for (const std::string& t : techniques) {
     for (sweep::Setting& st : sweep::settings_for(*PluginRegistry::global().find(t), step_counts,
                                                   a.binary_steps, search_lods))
       settings.push_back(std::move(st));
   }
-  if (target) return do_target(a, opt, settings);
+  return settings;
+}
 
+// The height fields of --fields and --depth; at least one.
+Result<std::vector<sweep::Field>> parse_fields(const BenchArgs& a) {
   std::vector<sweep::Field> fields;
   const std::vector<std::string>& known = sweep::builtin_field_names();
   for (const std::string& name : split(a.fields)) {
@@ -286,46 +289,61 @@ int do_bench(BenchArgs& a) {
     if (std::find(known.begin(), known.end(), name) == known.end()) {
       std::string list;
       for (const std::string& k : known) list += k + ", ";
-      return fail("--fields: unknown built-in height field '" + name + "' (" + list + "none)", 2);
+      return Status::usage("--fields: unknown built-in height field '" + name + "' (" + list +
+                           "none)");
     }
     Result<sweep::Field> f = sweep::builtin_field(name);
-    if (!f.ok()) return fail(f.status().message(), 1);
+    if (!f.ok()) return Status::error(f.status().message());
     fields.push_back(std::move(f).value());
   }
   for (const std::string& file : a.depth_files) {
     Result<sweep::Field> f = sweep::field_from_file(file, a.depth_scale, a.height);
-    if (!f.ok()) return fail(f.status().message(), f.status().exit_code());
+    if (!f.ok()) return f.status();
     fields.push_back(std::move(f).value());
   }
-  if (fields.empty()) return fail("no height field to sweep (--fields none and no --depth)", 2);
+  if (fields.empty())
+    return Status::usage("no height field to sweep (--fields none and no --depth)");
+  return fields;
+}
+
+// The table on stdout, then --csv, --json and --report.
+Status write_bench_outputs(const BenchArgs& a, const sweep::SweepResult& r,
+                           const sweep::Options& opt) {
+  sweep::RunInfo info{command_line(), sweep::machine_description(), opt, build_metadata()};
+  // The device names its thread count ("cpu (2 threads)"), --threads 0 resolved.
+  std::printf("%s\n%s, %dx%d, %d warm-up + %d timed frames per row\n", info.machine.c_str(),
+              r.cpu_device.c_str(), opt.width, opt.height, opt.warmup, opt.repeats);
+  if (!r.gl_device.empty()) std::printf("gl: %s\n", r.gl_device.c_str());
+  std::printf("%s", sweep::format_table(r.rows).c_str());
+  for (const std::string& n : r.notes) std::printf("%s\n", n.c_str());
+  if (!a.csv.empty()) RELIEF_RETURN_IF_ERROR(write_text_atomic(a.csv, sweep::to_csv(r.rows)));
+  if (!a.json.empty()) RELIEF_RETURN_IF_ERROR(write_text_atomic(a.json, sweep::to_json(r, info)));
+  if (!a.report.empty()) {
+    RELIEF_RETURN_IF_ERROR(sweep::write_report(a.report, r, info));
+    std::printf("report: %s/index.html\n", a.report.c_str());
+  }
+  return {};
+}
+
+int do_bench(BenchArgs& a) {
+  sweep::Options opt;
+  std::vector<int> step_counts;
+  Status s = parse_sweep_options(a, opt, step_counts);
+  if (!s.ok()) return fail(s.message(), s.exit_code());
+  Result<std::vector<sweep::Setting>> settings = parse_settings(a, step_counts);
+  if (!settings.ok()) return fail(settings.status().message(), settings.status().exit_code());
+  if (a.sub->count("--target-error") > 0) return do_target(a, opt, *settings);
+  Result<std::vector<sweep::Field>> fields = parse_fields(a);
+  if (!fields.ok()) return fail(fields.status().message(), fields.status().exit_code());
 
   opt.keep_images = !a.report.empty();
   Progress progress(!a.no_progress);
   opt.progress = [&](int d, int t, const std::string& w) { progress(d, t, w); };
-  Result<sweep::SweepResult> r = sweep::run_sweep(fields, settings, opt);
+  Result<sweep::SweepResult> r = sweep::run_sweep(*fields, *settings, opt);
   progress.finish();
   if (!r.ok()) return fail(r.status().message(), r.status().exit_code());
-
-  sweep::RunInfo info{command_line(), sweep::machine_description(), opt, build_metadata()};
-  // The device names its thread count ("cpu (2 threads)"), --threads 0 resolved.
-  std::printf("%s\n%s, %dx%d, %d warm-up + %d timed frames per row\n", info.machine.c_str(),
-              r->cpu_device.c_str(), opt.width, opt.height, opt.warmup, opt.repeats);
-  if (!r->gl_device.empty()) std::printf("gl: %s\n", r->gl_device.c_str());
-  std::printf("%s", sweep::format_table(r->rows).c_str());
-  for (const std::string& n : r->notes) std::printf("%s\n", n.c_str());
-  if (!a.csv.empty()) {
-    s = write_text_atomic(a.csv, sweep::to_csv(r->rows));
-    if (!s.ok()) return fail(s.message(), s.exit_code());
-  }
-  if (!a.json.empty()) {
-    s = write_text_atomic(a.json, sweep::to_json(*r, info));
-    if (!s.ok()) return fail(s.message(), s.exit_code());
-  }
-  if (!a.report.empty()) {
-    s = sweep::write_report(a.report, *r, info);
-    if (!s.ok()) return fail(s.message(), s.exit_code());
-    std::printf("report: %s/index.html\n", a.report.c_str());
-  }
+  s = write_bench_outputs(a, *r, opt);
+  if (!s.ok()) return fail(s.message(), s.exit_code());
   return 0;
 }
 

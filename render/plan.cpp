@@ -204,10 +204,8 @@ std::vector<int> blend_draw_order(const Scene& scene, const glm::mat4& view) {
   return order;
 }
 
-}  // namespace
-
-Result<Plan> make_plan(const Scene& scene, const RenderOptions& opt) {
-  Plan plan;
+// What make_plan checks of the scene and the options before binding anything.
+Status check_request(const Scene& scene, const RenderOptions& opt) {
   if (scene.cameras.empty()) return Status::error("scene '" + scene.name + "' has no camera");
   if (opt.camera < 0 || opt.camera >= static_cast<int>(scene.cameras.size()))
     return Status::usage("camera index " + std::to_string(opt.camera) +
@@ -220,119 +218,128 @@ Result<Plan> make_plan(const Scene& scene, const RenderOptions& opt) {
     return Status::error("scene '" + scene.name + "': " + std::to_string(triangles) +
                          " triangles to draw, more than the limit of " +
                          std::to_string(kMaxSceneTriangles));
-  const PluginRegistry& reg = PluginRegistry::global();
-  if (!opt.technique.empty() && !reg.find(opt.technique))
+  if (!opt.technique.empty() && !PluginRegistry::global().find(opt.technique))
     return Status::usage("unknown technique '" + opt.technique + "' (see `relief techniques`)");
+  return check_shadow_settings(opt.shadow);
+}
 
-  RELIEF_RETURN_IF_ERROR(check_shadow_settings(opt.shadow));
-  // `--technique` replaces the technique of the relief materials (those with a depth map); the
-  // others (plain spheres through a relief floor, say) keep theirs. `--param key=value` goes to
-  // every material whose technique declares the key; a key no technique here declares is an error.
-  std::map<std::string, bool> param_used;
-  for (const auto& [k, v] : opt.params) param_used[k] = false;
-  for (const Material& m : scene.materials) {
-    BoundMaterial b;
-    b.name = m.name;
-    const bool relief_material = m.textures.count("depth") != 0;
-    const std::string technique =
-        opt.technique.empty() || !relief_material ? m.technique : opt.technique;
-    b.plugin = reg.find(technique);
-    if (!b.plugin)
-      return Status::error("material '" + m.name + "': unknown technique '" + technique + "'");
-    // Scene parameters the chosen plugin does not declare belong to other techniques.
-    std::map<std::string, float> scene_params;
-    for (const auto& [k, v] : m.params)
-      if (param_index(*b.plugin, k.c_str()) >= 0) scene_params[k] = v;
-    std::map<std::string, std::string> cli_params;
-    for (const auto& [k, v] : opt.params)
-      if (param_index(*b.plugin, k.c_str()) >= 0) {
-        cli_params[k] = v;
-        param_used[k] = true;
-      }
-    Result<std::vector<float>> values = resolve_params(*b.plugin, scene_params, cli_params);
-    if (!values.ok()) return values.status().with_context("material '" + m.name + "'");
-    for (size_t i = 0; i < values->size(); ++i) b.uniforms.params[i] = (*values)[i];
-    for (int s = 0; s < b.plugin->num_textures; ++s) {
-      const TextureSlotSpec& slot = b.plugin->textures[s];
-      if (b.plugin->reads_texture && !b.plugin->reads_texture(b.uniforms.params, s)) {
-        if (is_derived_slot(slot.name))
-          b.reasons.push_back(std::string(slot.name) +
-                              ": not baked (these parameters do not read it)");
+// The texture slots of b.plugin from the material, the derived-map cache, or nothing (an
+// optional slot, or one these parameters do not read).
+Status bind_textures(const Material& m, BoundMaterial& b) {
+  for (int s = 0; s < b.plugin->num_textures; ++s) {
+    const TextureSlotSpec& slot = b.plugin->textures[s];
+    if (b.plugin->reads_texture && !b.plugin->reads_texture(b.uniforms.params, s)) {
+      if (is_derived_slot(slot.name))
+        b.reasons.push_back(std::string(slot.name) +
+                            ": not baked (these parameters do not read it)");
+      continue;
+    }
+    auto it = m.textures.find(slot.name);
+    if (it == m.textures.end() || !it->second) {
+      if (is_derived_slot(slot.name)) {  // cone maps: baked from depth, cached
+        Result<DerivedMap> d = derive_map(m, slot.name);
+        if (!d.ok()) return d.status().with_context("material '" + m.name + "'");
+        b.uniforms.textures[s] = d->texture.get();
+        b.uniforms.samplers[s] = m.sampler;
+        b.keep_alive.push_back(d->texture);
+        b.reasons.push_back(d->note);
         continue;
       }
-      auto it = m.textures.find(slot.name);
-      if (it == m.textures.end() || !it->second) {
-        if (is_derived_slot(slot.name)) {  // cone maps: baked from depth, cached
-          Result<DerivedMap> d = derive_map(m, slot.name);
-          if (!d.ok()) return d.status().with_context("material '" + m.name + "'");
-          b.uniforms.textures[s] = d->texture.get();
-          b.uniforms.samplers[s] = m.sampler;
-          b.keep_alive.push_back(d->texture);
-          b.reasons.push_back(d->note);
-          continue;
-        }
-        if (slot.required)
-          return Status::error("material '" + m.name + "': technique " + b.plugin->name +
-                               " needs a '" + slot.name + "' texture");
-        continue;
-      }
-      b.uniforms.textures[s] = it->second.get();
-      b.uniforms.samplers[s] = m.sampler;
-      b.keep_alive.push_back(it->second);
-      if (auto u = m.uv_maps.find(slot.name); u != m.uv_maps.end())
-        b.uniforms.uv_maps[s] = u->second;
+      if (slot.required)
+        return Status::error("material '" + m.name + "': technique " + b.plugin->name +
+                             " needs a '" + slot.name + "' texture");
+      continue;
     }
-    // The material-wide glTF terms (plugins/surface.h finish_surface).
-    b.uniforms.emissive = m.emissive * m.emissive_strength;
-    if (m.emissive_texture && b.uniforms.emissive != glm::vec3(0.0f)) {
-      b.uniforms.emissive_texture = m.emissive_texture.get();
-      b.uniforms.emissive_sampler = m.sampler;
-      b.uniforms.emissive_uv = m.emissive_uv;
-      b.keep_alive.push_back(m.emissive_texture);
-    }
-    if (m.occlusion_texture && m.occlusion_strength != 0.0f) {
-      b.uniforms.occlusion_texture = m.occlusion_texture.get();
-      b.uniforms.occlusion_sampler = m.sampler;
-      b.uniforms.occlusion_uv = m.occlusion_uv;
-      b.uniforms.occlusion_strength = m.occlusion_strength;
-      b.keep_alive.push_back(m.occlusion_texture);
-    }
-    b.uniforms.normal_scale = m.normal_scale;
-    b.uniforms.unlit = m.unlit;
-    if (m.unlit) b.reasons.push_back("unlit: base colour only (KHR_materials_unlit)");
-    b.uniforms.base_color = m.base_color;
-    b.uniforms.specular = m.specular;
-    b.uniforms.shininess = m.shininess;
-    b.uniforms.alpha_mode = m.alpha_mode;
-    b.uniforms.alpha_cutoff = m.alpha_cutoff;
-    if (m.alpha_mode == AlphaMode::kMask)
-      b.reasons.push_back("alpha: MASK (discarded below alpha " + short_number(m.alpha_cutoff) +
-                          ", main and shadow passes)");
-    else if (m.alpha_mode == AlphaMode::kBlend)
-      b.reasons.push_back("alpha: BLEND (after the opaque draws, back to front, no depth write)");
-    b.double_sided = m.double_sided;
-    if (m.self_shadow && scene.lights.empty())
-      b.reasons.push_back("self_shadow: off (the scene has no light)");
-    else if (m.self_shadow && !opt.self_shadow)
-      b.reasons.push_back("self_shadow: off (switched off for this frame)");
-    else
-      add_effect(b, kEffectSelfShadow, m.self_shadow, "self_shadow");
-    if (b.effects & kEffectSelfShadow) b.reasons.back() += " (rays only where N.L > 0)";
-    add_effect(b, kEffectDepthWrite, m.depth_write, "depth_write");
-    add_effect(b, kEffectSilhouette, m.silhouette, "silhouette");
-    plan.materials.push_back(std::move(b));
+    b.uniforms.textures[s] = it->second.get();
+    b.uniforms.samplers[s] = m.sampler;
+    b.keep_alive.push_back(it->second);
+    if (auto u = m.uv_maps.find(slot.name); u != m.uv_maps.end()) b.uniforms.uv_maps[s] = u->second;
   }
-  for (const auto& [key, used] : param_used)
-    if (!used &&
-        !plan.materials.empty()) {  // the first material's plugin names the key in its error
-      Result<std::vector<float>> none =
-          resolve_params(*plan.materials.front().plugin, {}, {{key, opt.params.at(key)}});
-      return Status::usage(none.status().message() + "; no technique in this scene declares it");
-    }
+  return {};
+}
 
+// The material-wide glTF terms (plugins/surface.h finish_surface), colours and alpha mode.
+void bind_surface(const Material& m, BoundMaterial& b) {
+  b.uniforms.emissive = m.emissive * m.emissive_strength;
+  if (m.emissive_texture && b.uniforms.emissive != glm::vec3(0.0f)) {
+    b.uniforms.emissive_texture = m.emissive_texture.get();
+    b.uniforms.emissive_sampler = m.sampler;
+    b.uniforms.emissive_uv = m.emissive_uv;
+    b.keep_alive.push_back(m.emissive_texture);
+  }
+  if (m.occlusion_texture && m.occlusion_strength != 0.0f) {
+    b.uniforms.occlusion_texture = m.occlusion_texture.get();
+    b.uniforms.occlusion_sampler = m.sampler;
+    b.uniforms.occlusion_uv = m.occlusion_uv;
+    b.uniforms.occlusion_strength = m.occlusion_strength;
+    b.keep_alive.push_back(m.occlusion_texture);
+  }
+  b.uniforms.normal_scale = m.normal_scale;
+  b.uniforms.unlit = m.unlit;
+  if (m.unlit) b.reasons.push_back("unlit: base colour only (KHR_materials_unlit)");
+  b.uniforms.base_color = m.base_color;
+  b.uniforms.specular = m.specular;
+  b.uniforms.shininess = m.shininess;
+  b.uniforms.alpha_mode = m.alpha_mode;
+  b.uniforms.alpha_cutoff = m.alpha_cutoff;
+  if (m.alpha_mode == AlphaMode::kMask)
+    b.reasons.push_back("alpha: MASK (discarded below alpha " + short_number(m.alpha_cutoff) +
+                        ", main and shadow passes)");
+  else if (m.alpha_mode == AlphaMode::kBlend)
+    b.reasons.push_back("alpha: BLEND (after the opaque draws, back to front, no depth write)");
+  b.double_sided = m.double_sided;
+}
+
+// The effects the material asks for that its plugin supports and this frame allows.
+void bind_effects(const Scene& scene, const Material& m, const RenderOptions& opt,
+                  BoundMaterial& b) {
+  if (m.self_shadow && scene.lights.empty())
+    b.reasons.push_back("self_shadow: off (the scene has no light)");
+  else if (m.self_shadow && !opt.self_shadow)
+    b.reasons.push_back("self_shadow: off (switched off for this frame)");
+  else
+    add_effect(b, kEffectSelfShadow, m.self_shadow, "self_shadow");
+  if (b.effects & kEffectSelfShadow) b.reasons.back() += " (rays only where N.L > 0)";
+  add_effect(b, kEffectDepthWrite, m.depth_write, "depth_write");
+  add_effect(b, kEffectSilhouette, m.silhouette, "silhouette");
+}
+
+// One material bound to its plugin. `--technique` replaces the technique of the relief materials
+// (those with a depth map); the others (plain spheres through a relief floor, say) keep theirs.
+// `--param key=value` goes to every material whose technique declares the key (param_used).
+Result<BoundMaterial> bind_material(const Scene& scene, const Material& m, const RenderOptions& opt,
+                                    std::map<std::string, bool>& param_used) {
+  BoundMaterial b;
+  b.name = m.name;
+  const bool relief_material = m.textures.count("depth") != 0;
+  const std::string technique =
+      opt.technique.empty() || !relief_material ? m.technique : opt.technique;
+  b.plugin = PluginRegistry::global().find(technique);
+  if (!b.plugin)
+    return Status::error("material '" + m.name + "': unknown technique '" + technique + "'");
+  // Scene parameters the chosen plugin does not declare belong to other techniques.
+  std::map<std::string, float> scene_params;
+  for (const auto& [k, v] : m.params)
+    if (param_index(*b.plugin, k.c_str()) >= 0) scene_params[k] = v;
+  std::map<std::string, std::string> cli_params;
+  for (const auto& [k, v] : opt.params)
+    if (param_index(*b.plugin, k.c_str()) >= 0) {
+      cli_params[k] = v;
+      param_used[k] = true;
+    }
+  Result<std::vector<float>> values = resolve_params(*b.plugin, scene_params, cli_params);
+  if (!values.ok()) return values.status().with_context("material '" + m.name + "'");
+  for (size_t i = 0; i < values->size(); ++i) b.uniforms.params[i] = (*values)[i];
+  RELIEF_RETURN_IF_ERROR(bind_textures(m, b));
+  bind_surface(m, b);
+  bind_effects(scene, m, opt, b);
+  return b;
+}
+
+// The main pass's camera, target and lights.
+Status frame_uniforms(const Scene& scene, const RenderOptions& opt, FrameUniforms& f) {
   const Camera& cam = scene.cameras[opt.camera];
   const float aspect = static_cast<float>(opt.width) / static_cast<float>(opt.height);
-  FrameUniforms& f = plan.frame;
   f.view = cam.view();
   f.view_proj = cam.projection(aspect) * f.view;
   f.eye = cam.position;
@@ -356,6 +363,29 @@ Result<Plan> make_plan(const Scene& scene, const RenderOptions& opt) {
     u.inner_cone_cos = std::cos(glm::radians(l.inner_cone_deg));
     u.outer_cone_cos = std::cos(glm::radians(l.outer_cone_deg));
   }
+  return {};
+}
+
+}  // namespace
+
+Result<Plan> make_plan(const Scene& scene, const RenderOptions& opt) {
+  Plan plan;
+  RELIEF_RETURN_IF_ERROR(check_request(scene, opt));
+  // A `--param` key no technique in this scene declares is an error.
+  std::map<std::string, bool> param_used;
+  for (const auto& [k, v] : opt.params) param_used[k] = false;
+  for (const Material& m : scene.materials) {
+    Result<BoundMaterial> b = bind_material(scene, m, opt, param_used);
+    if (!b.ok()) return b.status();
+    plan.materials.push_back(std::move(b).value());
+  }
+  for (const auto& [key, used] : param_used)
+    if (!used && !plan.materials.empty()) {  // the first material's plugin names the key
+      Result<std::vector<float>> none =
+          resolve_params(*plan.materials.front().plugin, {}, {{key, opt.params.at(key)}});
+      return Status::usage(none.status().message() + "; no technique in this scene declares it");
+    }
+  RELIEF_RETURN_IF_ERROR(frame_uniforms(scene, opt, plan.frame));
   for (const Instance& inst : scene.instances)
     if (inst.material < 0 || inst.material >= static_cast<int>(scene.materials.size()) ||
         inst.mesh < 0 || inst.mesh >= static_cast<int>(scene.meshes.size()))
@@ -363,7 +393,8 @@ Result<Plan> make_plan(const Scene& scene, const RenderOptions& opt) {
   plan.shadow = opt.shadow;
   RELIEF_RETURN_IF_ERROR(plan_shadow_passes(scene, opt, plan));
   plan_shadow_variants(scene, plan);
-  plan.draw_order = blend_draw_order(scene, f.view);
+  plan.draw_order = blend_draw_order(scene, plan.frame.view);
+  const Camera& cam = scene.cameras[opt.camera];
   PassPlan main;
   main.kind = PassPlan::Kind::kMain;
   main.name = "main";
