@@ -12,8 +12,8 @@
 #include <glm/vec3.hpp>
 #include <glm/vec4.hpp>
 
-#include "plugins/plugin.h"
 #include "rasterizer/texture.h"
+#include "shaders_cpp/uniforms.h"
 
 namespace relief {
 
