@@ -175,6 +175,159 @@ struct Candidate {
   std::string platform;
 };
 
+// The EGL devices a context may be made on (EGL_EXT_platform_device), or why there are none.
+struct PlatformDevices {
+  bool platform_base = false;  // EGL_EXT_platform_base or EGL 1.5: eglGetPlatformDisplayEXT
+  std::vector<EGLDeviceEXT> devices;
+  std::string why;  // when devices is empty
+};
+
+PlatformDevices platform_devices() {
+  PlatformDevices d;
+  d.platform_base =
+      has_client_extension("EGL_EXT_platform_base") || epoxy_egl_version(EGL_NO_DISPLAY) >= 15;
+  if (d.platform_base && has_client_extension("EGL_EXT_platform_device"))
+    d.devices = query_devices(&d.why);
+  else
+    d.why = "EGL_EXT_platform_device not supported";
+  return d;
+}
+
+Candidate device_candidate(const PlatformDevices& d, int i) {
+  const EGLDeviceEXT dev = d.devices[static_cast<size_t>(i)];
+  // The display first, then the label: the order EGL is asked in.
+  const EGLDisplay display = eglGetPlatformDisplayEXT(EGL_PLATFORM_DEVICE_EXT, dev, nullptr);
+  return {display, "device " + std::to_string(i) + " (" + describe_device(dev, i).name + ")"};
+}
+
+// An explicit gpu index is the only candidate.
+Result<std::vector<Candidate>> requested_device(const PlatformDevices& d, int gpu) {
+  if (d.devices.empty())
+    return Status::error("no EGL display: EGL device " + std::to_string(gpu) + " requested but " +
+                         d.why);
+  if (gpu >= static_cast<int>(d.devices.size()))
+    return Status::error("no EGL display: EGL device " + std::to_string(gpu) + " requested, " +
+                         std::to_string(d.devices.size()) + " available");
+  return std::vector<Candidate>{device_candidate(d, gpu)};
+}
+
+// Without an index: the hardware devices, surfaceless, the first software device, the default
+// display.
+std::vector<Candidate> default_candidates(const PlatformDevices& d) {
+  std::vector<Candidate> candidates;
+  int software = -1;
+  for (int i = 0; i < static_cast<int>(d.devices.size()); ++i) {
+    if (describe_device(d.devices[static_cast<size_t>(i)], i).software) {
+      if (software < 0) software = i;
+      continue;
+    }
+    candidates.push_back(device_candidate(d, i));
+  }
+  if (d.platform_base && has_client_extension("EGL_MESA_platform_surfaceless"))
+    candidates.push_back(
+        {eglGetPlatformDisplayEXT(EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY, nullptr),
+         "surfaceless"});
+  if (software >= 0) candidates.push_back(device_candidate(d, software));
+  candidates.push_back({eglGetDisplay(EGL_DEFAULT_DISPLAY), "default display"});
+  return candidates;
+}
+
+// Displays to try, in order.
+Result<std::vector<Candidate>> display_candidates(const PlatformDevices& d, int gpu) {
+  if (gpu >= 0) return requested_device(d, gpu);
+  return default_candidates(d);
+}
+
+// The config of an OpenGL context on dpy: none with EGL_KHR_no_config_context.
+Result<EGLConfig> choose_config(EGLDisplay dpy) {
+  EGLConfig config = EGL_NO_CONFIG_KHR;
+  if (epoxy_has_egl_extension(dpy, "EGL_KHR_no_config_context")) return config;
+  const EGLint attribs[] = {EGL_RENDERABLE_TYPE, EGL_OPENGL_BIT, EGL_SURFACE_TYPE, 0, EGL_NONE};
+  EGLint n = 0;
+  if (!eglChooseConfig(dpy, attribs, &config, 1, &n) || n < 1)
+    return Status::error("no EGL config with EGL_OPENGL_BIT");
+  return config;
+}
+
+// An OpenGL 4.5 core context on an initialised display (not yet current).
+Result<EGLContext> create_context(EGLDisplay dpy) {
+  if (!epoxy_has_egl_extension(dpy, "EGL_KHR_surfaceless_context"))
+    return Status::error("EGL_KHR_surfaceless_context not supported");
+  if (!eglBindAPI(EGL_OPENGL_API))
+    return Status::error("eglBindAPI(EGL_OPENGL_API) failed: " + egl_error());
+  Result<EGLConfig> config = choose_config(dpy);
+  if (!config.ok()) return config.status();
+  const EGLint ctx_attribs[] = {EGL_CONTEXT_MAJOR_VERSION,
+                                4,
+                                EGL_CONTEXT_MINOR_VERSION,
+                                5,
+                                EGL_CONTEXT_OPENGL_PROFILE_MASK,
+                                EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT,
+                                EGL_NONE};
+  EGLContext ctx = eglCreateContext(dpy, *config, EGL_NO_CONTEXT, ctx_attribs);
+  if (ctx == EGL_NO_CONTEXT) return Status::error("no OpenGL 4.5 core context: " + egl_error());
+  return ctx;
+}
+
+// Initialises c's display and makes a context current on it with no surface. On failure, appends
+// "platform: why" to `errors` (the display released again) and returns EGL_NO_CONTEXT.
+EGLContext open_candidate(const Candidate& c, std::string* egl_version, std::string& errors) {
+  auto note = [&](const std::string& what) {
+    errors += (errors.empty() ? "" : "; ") + c.platform + ": " + what;
+  };
+  if (c.display == EGL_NO_DISPLAY) {
+    note("no display " + egl_error());
+    return EGL_NO_CONTEXT;
+  }
+  if (Status s = initialize_display(c.display, egl_version); !s.ok()) {
+    note(s.message());
+    return EGL_NO_CONTEXT;
+  }
+  auto fail = [&](const std::string& what) {
+    note(what);
+    release_display(c.display);
+  };
+  Result<EGLContext> ctx = create_context(c.display);
+  if (!ctx.ok()) {
+    fail(ctx.status().message());
+    return EGL_NO_CONTEXT;
+  }
+  if (!eglMakeCurrent(c.display, EGL_NO_SURFACE, EGL_NO_SURFACE, *ctx)) {
+    fail("eglMakeCurrent failed: " + egl_error());
+    eglDestroyContext(c.display, *ctx);
+    return EGL_NO_CONTEXT;
+  }
+  return *ctx;
+}
+
+std::string gl_string(GLenum name) {
+  const GLubyte* s = glGetString(name);
+  return s ? std::string(reinterpret_cast<const char*>(s)) : std::string();
+}
+
+// The current context's description (its extensions apart).
+ContextInfo current_info(const std::string& platform, const std::string& egl_version) {
+  ContextInfo info;
+  info.platform = platform;
+  info.egl_version = egl_version;
+  info.renderer = gl_string(GL_RENDERER);
+  info.vendor = gl_string(GL_VENDOR);
+  info.version = gl_string(GL_VERSION);
+  info.glsl_version = gl_string(GL_SHADING_LANGUAGE_VERSION);
+  return info;
+}
+
+std::vector<std::string> current_extensions() {
+  std::vector<std::string> out;
+  GLint n = 0;
+  glGetIntegerv(GL_NUM_EXTENSIONS, &n);
+  for (GLint i = 0; i < n; ++i) {
+    const GLubyte* e = glGetStringi(GL_EXTENSIONS, static_cast<GLuint>(i));
+    if (e) out.emplace_back(reinterpret_cast<const char*>(e));
+  }
+  return out;
+}
+
 }  // namespace
 
 Result<std::vector<EglDevice>> list_egl_devices() {
@@ -190,131 +343,28 @@ Result<std::vector<EglDevice>> list_egl_devices() {
 
 Result<std::unique_ptr<Context>> Context::create(int gpu) {
   if (!egl_library_present()) return Status::error("no EGL display: libEGL.so.1 not found");
-  const bool platform_base =
-      has_client_extension("EGL_EXT_platform_base") || epoxy_egl_version(EGL_NO_DISPLAY) >= 15;
-  std::string why;
-  std::vector<EGLDeviceEXT> devices;
-  if (platform_base && has_client_extension("EGL_EXT_platform_device"))
-    devices = query_devices(&why);
-  else
-    why = "EGL_EXT_platform_device not supported";
-
-  auto device_display = [&](int i) -> EGLDisplay {
-    return eglGetPlatformDisplayEXT(EGL_PLATFORM_DEVICE_EXT, devices[static_cast<size_t>(i)],
-                                    nullptr);
-  };
-  auto device_label = [&](int i) {
-    return "device " + std::to_string(i) + " (" +
-           describe_device(devices[static_cast<size_t>(i)], i).name + ")";
-  };
-
-  // Displays to try, in order. An explicit gpu index is the only candidate.
-  std::vector<Candidate> candidates;
-  if (gpu >= 0) {
-    if (devices.empty())
-      return Status::error("no EGL display: EGL device " + std::to_string(gpu) + " requested but " +
-                           why);
-    if (gpu >= static_cast<int>(devices.size()))
-      return Status::error("no EGL display: EGL device " + std::to_string(gpu) + " requested, " +
-                           std::to_string(devices.size()) + " available");
-    candidates.push_back({device_display(gpu), device_label(gpu)});
-  } else {
-    int software = -1;
-    for (int i = 0; i < static_cast<int>(devices.size()); ++i) {
-      if (describe_device(devices[static_cast<size_t>(i)], i).software) {
-        if (software < 0) software = i;
-        continue;
-      }
-      candidates.push_back({device_display(i), device_label(i)});
-    }
-    if (platform_base && has_client_extension("EGL_MESA_platform_surfaceless"))
-      candidates.push_back(
-          {eglGetPlatformDisplayEXT(EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY, nullptr),
-           "surfaceless"});
-    if (software >= 0) candidates.push_back({device_display(software), device_label(software)});
-    candidates.push_back({eglGetDisplay(EGL_DEFAULT_DISPLAY), "default display"});
-  }
-
+  const PlatformDevices devices = platform_devices();
+  Result<std::vector<Candidate>> candidates = display_candidates(devices, gpu);
+  if (!candidates.ok()) return candidates.status();
   std::string errors;
-  for (const Candidate& c : candidates) {
-    if (c.display == EGL_NO_DISPLAY) {
-      errors += (errors.empty() ? "" : "; ") + c.platform + ": no display " + egl_error();
-      continue;
-    }
+  for (const Candidate& c : *candidates) {
     std::string egl_version;
-    Status s = initialize_display(c.display, &egl_version);
-    if (!s.ok()) {
-      errors += (errors.empty() ? "" : "; ") + c.platform + ": " + s.message();
-      continue;
-    }
-    auto fail = [&](const std::string& what) {
-      errors += (errors.empty() ? "" : "; ") + c.platform + ": " + what;
-      release_display(c.display);
-    };
-    if (!epoxy_has_egl_extension(c.display, "EGL_KHR_surfaceless_context")) {
-      fail("EGL_KHR_surfaceless_context not supported");
-      continue;
-    }
-    if (!eglBindAPI(EGL_OPENGL_API)) {
-      fail("eglBindAPI(EGL_OPENGL_API) failed: " + egl_error());
-      continue;
-    }
-    EGLConfig config = EGL_NO_CONFIG_KHR;
-    if (!epoxy_has_egl_extension(c.display, "EGL_KHR_no_config_context")) {
-      const EGLint attribs[] = {EGL_RENDERABLE_TYPE, EGL_OPENGL_BIT, EGL_SURFACE_TYPE, 0, EGL_NONE};
-      EGLint n = 0;
-      if (!eglChooseConfig(c.display, attribs, &config, 1, &n) || n < 1) {
-        fail("no EGL config with EGL_OPENGL_BIT");
-        continue;
-      }
-    }
-    const EGLint ctx_attribs[] = {EGL_CONTEXT_MAJOR_VERSION,
-                                  4,
-                                  EGL_CONTEXT_MINOR_VERSION,
-                                  5,
-                                  EGL_CONTEXT_OPENGL_PROFILE_MASK,
-                                  EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT,
-                                  EGL_NONE};
-    EGLContext ctx = eglCreateContext(c.display, config, EGL_NO_CONTEXT, ctx_attribs);
-    if (ctx == EGL_NO_CONTEXT) {
-      fail("no OpenGL 4.5 core context: " + egl_error());
-      continue;
-    }
-    if (!eglMakeCurrent(c.display, EGL_NO_SURFACE, EGL_NO_SURFACE, ctx)) {
-      fail("eglMakeCurrent failed: " + egl_error());
-      eglDestroyContext(c.display, ctx);
-      continue;
-    }
+    EGLContext ctx = open_candidate(c, &egl_version, errors);
+    if (ctx == EGL_NO_CONTEXT) continue;
     std::unique_ptr<Context> out(new Context());
     out->display_ = c.display;
     out->context_ = ctx;
-    ContextInfo& info = out->info_;
-    info.platform = c.platform;
-    info.egl_version = egl_version;
-    auto str = [](GLenum name) {
-      const GLubyte* s = glGetString(name);
-      return s ? std::string(reinterpret_cast<const char*>(s)) : std::string();
-    };
-    info.renderer = str(GL_RENDERER);
-    info.vendor = str(GL_VENDOR);
-    info.version = str(GL_VERSION);
-    info.glsl_version = str(GL_SHADING_LANGUAGE_VERSION);
-    GLint n = 0;
-    glGetIntegerv(GL_NUM_EXTENSIONS, &n);
-    for (GLint i = 0; i < n; ++i) {
-      const GLubyte* e = glGetStringi(GL_EXTENSIONS, static_cast<GLuint>(i));
-      if (e) out->all_extensions_.emplace_back(reinterpret_cast<const char*>(e));
-    }
+    out->info_ = current_info(c.platform, egl_version);
+    out->all_extensions_ = current_extensions();
     for (const char* e : {"GL_ARB_texture_filter_anisotropic", "GL_EXT_texture_filter_anisotropic",
                           "GL_ARB_timer_query", "GL_KHR_debug"})
-      if (out->has_extension(e)) info.extensions.emplace_back(e);
-    if (epoxy_gl_version() < 45) {
-      const std::string v = info.version;
-      return Status::error("no OpenGL 4.5: " + c.platform + " gives \"" + v + "\"");
-    }
+      if (out->has_extension(e)) out->info_.extensions.emplace_back(e);
+    if (epoxy_gl_version() < 45)
+      return Status::error("no OpenGL 4.5: " + c.platform + " gives \"" + out->info_.version +
+                           "\"");
     return out;
   }
-  if (errors.empty()) errors = "no candidate display (" + why + ")";
+  if (errors.empty()) errors = "no candidate display (" + devices.why + ")";
   return Status::error("no EGL display: " + errors);
 }
 
