@@ -1,5 +1,6 @@
 // Copies of gl/shaders/* compiled into the binary (gl/embedded_shaders.cpp), the last place
-// read_shader_file() looks, so an installed binary works without the source tree.
+// read_shader_file() looks, so an installed binary works without the source tree; and the
+// shaders generated at build time (prelude.glsl), which are read from here only.
 #pragma once
 
 #include <cstddef>
@@ -11,6 +12,7 @@ struct EmbeddedShader {
   const char* name;  // file name in gl/shaders
   const char* text;  // not NUL-terminated
   size_t size;
+  bool generated;  // made by the build (gl/tools/glsl_prelude.cpp), not a gl/shaders file
 };
 
 const std::vector<EmbeddedShader>& embedded_shaders();

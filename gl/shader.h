@@ -3,7 +3,9 @@
 // Shader files live in gl/shaders/ and are read at run time from, in order: the directory named by
 // the environment variable RELIEF_GL_SHADER_DIR, the source tree's gl/shaders (compile-time
 // RELIEF_GL_SHADER_DIR), then the copy embedded into the binary when it was built (so an
-// installed binary works without the source tree).
+// installed binary works without the source tree). Shaders the build generates (prelude.glsl:
+// the constants C++ and GLSL share, gl/tools/glsl_prelude.cpp) are always read from the binary,
+// since they describe its C++ side.
 //
 // A file starts with `#version 450 core`; `#include "name"` lines pull in another file of the same
 // directory once (later includes of it are skipped). The preprocessor inserts the variant's
@@ -24,7 +26,7 @@ namespace relief::gl {
 Result<std::string> read_shader_file(const std::string& name);
 // Whether a shader file by that name exists on the search path.
 bool shader_file_exists(const std::string& name);
-// Every shader file on the search path, sorted by name (.vert, .frag, .glsl).
+// Every shader file on the search path and the generated ones, sorted by name.
 std::vector<std::string> list_shader_files();
 // Where shaders are read from now ("<dir>" or "embedded").
 std::string shader_source_location();

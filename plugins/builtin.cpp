@@ -1,26 +1,22 @@
-// The static list of built-in plugins. A new technique adds its descriptor here.
+// Registers the built-in plugins: the list is generated from the RELIEF_BUILTIN_PLUGIN markers in
+// plugins/*.cpp (plugins/builtin.h, cmake/builtin_plugins.cmake).
 #include "plugins/builtin.h"
 #include "plugins/registry.h"
 
 namespace relief {
 
+#define RELIEF_BUILTIN(descriptor) RELIEF_BUILTIN_PLUGIN(descriptor);
+#include "plugins/builtin_plugins.inc"
+#undef RELIEF_BUILTIN
+
 void register_builtin_plugins(PluginRegistry& r) {
+#define RELIEF_BUILTIN(descriptor) &descriptor,
   for (const PluginDescriptor* p : {
-           &kFlatPlugin,
-           &kNormalPlugin,
-           &kParallaxPlugin,
-           &kSteepParallaxPlugin,
-           &kPomPlugin,
-           &kReliefPlugin,
-           &kExactPlugin,
-           &kConePlugin,
-           &kConeQuadPlugin,
-           &kRelaxedConePlugin,
-           &kReliefQuadricPlugin,
-           &kReliefDualPlugin,
+#include "plugins/builtin_plugins.inc"
        }) {
     CHECK(r.add(p).ok());
   }
+#undef RELIEF_BUILTIN
 }
 
 }  // namespace relief

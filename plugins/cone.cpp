@@ -43,7 +43,7 @@ namespace relief {
 
 RELIEF_SELECT_FOR_EVERY_TARGET(select_cone)
 
-extern const PluginDescriptor kConePlugin;
+RELIEF_BUILTIN_PLUGIN(kConePlugin);
 const PluginDescriptor kConePlugin = cone_plugin(
     "cone",
     "conservative cone stepping (Dummer 2006): cone map derived from depth, self-shadow, depth "

@@ -41,7 +41,7 @@ namespace relief {
 
 RELIEF_SELECT_FOR_EVERY_TARGET(select_cone_quad)
 
-extern const PluginDescriptor kConeQuadPlugin;
+RELIEF_BUILTIN_PLUGIN(kConeQuadPlugin);
 const PluginDescriptor kConeQuadPlugin = cone_plugin(
     "cone_quad",
     "quad-directional cone stepping (four ratios per texel, GPU Gems 3 ch. 18): self-shadow, "

@@ -67,7 +67,7 @@ namespace relief {
 
 RELIEF_SELECT_FOR_EVERY_TARGET(select_exact)
 
-extern const PluginDescriptor kExactPlugin;
+RELIEF_BUILTIN_PLUGIN(kExactPlugin);
 const PluginDescriptor kExactPlugin = {
     kPluginAbiVersion,
     "exact",

@@ -54,6 +54,7 @@ namespace relief {
 
 RELIEF_SELECT_FOR_EVERY_TARGET(select_flat)
 
+RELIEF_BUILTIN_PLUGIN(kFlatPlugin);
 const PluginDescriptor kFlatPlugin = {
     kPluginAbiVersion,
     "flat",

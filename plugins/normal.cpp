@@ -60,6 +60,7 @@ namespace relief {
 
 RELIEF_SELECT_FOR_EVERY_TARGET(select_normal)
 
+RELIEF_BUILTIN_PLUGIN(kNormalPlugin);
 const PluginDescriptor kNormalPlugin = {
     kPluginAbiVersion,
     "normal",

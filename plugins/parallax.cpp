@@ -55,7 +55,7 @@ namespace relief {
 
 RELIEF_SELECT_FOR_EVERY_TARGET(select_parallax)
 
-extern const PluginDescriptor kParallaxPlugin;
+RELIEF_BUILTIN_PLUGIN(kParallaxPlugin);
 const PluginDescriptor kParallaxPlugin = {
     kPluginAbiVersion,
     "parallax",

@@ -7,7 +7,7 @@
 // fragment. The shader is called once per packet of quads (rasterizer/fragment.h); dispatch is
 // resolved per draw, never per fragment.
 //
-// Built-in plugins are listed in plugins/builtin.cpp. An external plugin is a shared object
+// Built-in plugins mark their descriptor (plugins/builtin.h). An external plugin is a shared object
 // exporting `extern "C" const relief::PluginDescriptor* relief_plugin_entry(void)` whose
 // abi_version equals kPluginAbiVersion.
 #pragma once

@@ -47,7 +47,7 @@ namespace relief {
 
 RELIEF_SELECT_FOR_EVERY_TARGET(select_pom)
 
-extern const PluginDescriptor kPomPlugin;
+RELIEF_BUILTIN_PLUGIN(kPomPlugin);
 const PluginDescriptor kPomPlugin = {
     kPluginAbiVersion,
     "pom",

@@ -43,7 +43,7 @@ namespace relief {
 
 RELIEF_SELECT_FOR_EVERY_TARGET(select_relaxed_cone)
 
-extern const PluginDescriptor kRelaxedConePlugin;
+RELIEF_BUILTIN_PLUGIN(kRelaxedConePlugin);
 const PluginDescriptor kRelaxedConePlugin =
     cone_plugin("relaxed_cone",
                 "relaxed cone stepping + binary search (Policarpo & Oliveira 2007), bracket-safe: "

@@ -54,8 +54,7 @@ namespace relief {
 
 RELIEF_SELECT_FOR_EVERY_TARGET(select_relief)
 
-// Declared here as well as in the builtin list so the definition has external linkage.
-extern const PluginDescriptor kReliefPlugin;
+RELIEF_BUILTIN_PLUGIN(kReliefPlugin);
 const PluginDescriptor kReliefPlugin = {
     kPluginAbiVersion,
     "relief",

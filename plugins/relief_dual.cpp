@@ -159,7 +159,7 @@ namespace relief {
 
 RELIEF_SELECT_FOR_EVERY_TARGET(select_dual)
 
-extern const PluginDescriptor kReliefDualPlugin;
+RELIEF_BUILTIN_PLUGIN(kReliefDualPlugin);
 const PluginDescriptor kReliefDualPlugin = {
     kPluginAbiVersion,
     "relief_dual",

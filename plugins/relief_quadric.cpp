@@ -163,7 +163,7 @@ namespace relief {
 
 RELIEF_SELECT_FOR_EVERY_TARGET(select_quadric)
 
-extern const PluginDescriptor kReliefQuadricPlugin;
+RELIEF_BUILTIN_PLUGIN(kReliefQuadricPlugin);
 const PluginDescriptor kReliefQuadricPlugin = {
     kPluginAbiVersion,
     "relief_quadric",

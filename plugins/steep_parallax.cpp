@@ -56,7 +56,7 @@ namespace relief {
 
 RELIEF_SELECT_FOR_EVERY_TARGET(select_steep)
 
-extern const PluginDescriptor kSteepParallaxPlugin;
+RELIEF_BUILTIN_PLUGIN(kSteepParallaxPlugin);
 const PluginDescriptor kSteepParallaxPlugin = {
     kPluginAbiVersion,
     "steep_parallax",

@@ -7,7 +7,10 @@
 //   uniform FrameUniforms frame        camera and lights of the pass (FrameUniforms)
 //   uniform MaterialUniforms material  params[] in schema order, base colour, specular, shininess
 //   textures[slot], has_texture[slot]  the material's textures by slot index (TextureSlotSpec order)
-//   vary[6]                            the varyings (namespace varying), padded to kCountGl
+//   vary[kCountGl / 4]                 the varyings (namespace varying), padded to kCountGl
+// Constants shared with C++ come from the generated prelude.glsl (included below; the names in
+// docs/plugins.md, "Adding a built-in technique"); a twin includes it first, to define its
+// parameter and slot indices from them.
 // Variant defines (0 or 1): EFFECT_SELF_SHADOW, EFFECT_DEPTH_WRITE, EFFECT_SILHOUETTE,
 // EFFECT_SHADOW_PASS, EFFECT_RECEIVE_SHADOW, RELIEF_WRITES_DEPTH (the variant's DepthOutput is not
 // kNone), RELIEF_AOVS (the pass writes AOVs); optional, 0 when absent: RELIEF_DEPTH_FARTHER (the
@@ -46,28 +49,9 @@ layout(depth_less) out float gl_FragDepth;
 layout(early_fragment_tests) in;
 #endif
 
-// ---- plugins/plugin.h ----
-const int kMaxParams = 32;
-const int kMaxTextureSlots = 8;
-const int kMaxLights = 8;
-
-const int kLightDirectional = 0;
-const int kLightPoint = 1;
-const int kLightSpot = 2;
-
-// Standard varying layout.
-const int kPosition = 0;
-const int kNormal = 3;
-const int kTangent = 6;
-const int kUv = 10;
-const int kQuadric = 12;
-const int kTileScale = 14;
-const int kCount = 16;
-// COLOR_0 and TEXCOORD_1 (plugin.h kCountExtended): the GL vertex stream always carries them
-// (colour 1, uv1 0 for meshes without), the CPU planes only for meshes that have them.
-const int kColor = 16;
-const int kUv1 = 20;
-const int kCountGl = 24;  // kCountExtended rounded up to whole vec4 attributes
+// The limits, light kinds, varying layout (kPosition .. kCountGl) and alpha modes of
+// shaders_cpp/uniforms.h, generated from it at build time (gl/tools/glsl_prelude.cpp).
+#include "prelude.glsl"
 
 struct LightUniform {
   int type;
@@ -119,7 +103,6 @@ struct MaterialUniforms {
   float normal_scale;
   bool unlit;
 };
-const int kAlphaOpaque = 0, kAlphaMask = 1, kAlphaBlend = 2;
 
 uniform FrameUniforms frame;
 uniform MaterialUniforms material;
@@ -129,7 +112,7 @@ uniform bool has_texture[kMaxTextureSlots];
 layout(binding = 16) uniform sampler2D emissive_texture;
 layout(binding = 17) uniform sampler2D occlusion_texture;
 
-in vec4 vary[6];
+in vec4 vary[kCountGl / 4];
 
 layout(location = 0) out vec4 out_color;
 layout(location = 1) out vec4 out_aov0;  // uv.xy, hit_depth, steps
@@ -324,12 +307,12 @@ vec3 finish_surface(vec3 lit, vec2 uv, vec3 albedo, FragIn in_, inout float fetc
   return c;
 }
 
-// plugins/surface.h sample_alpha: base colour factor alpha x the base colour texture's alpha
-// (slot 0 in every twin) at uv; for passes that need no colour (MASK shadow casters).
-float base_alpha_at(vec2 uv, FragIn in_, inout float fetches) {
+// plugins/surface.h sample_alpha: base colour factor alpha x the alpha of the base colour
+// texture (in `slot`) at uv; for passes that need no colour (MASK shadow casters).
+float base_alpha_at(int slot, vec2 uv, FragIn in_, inout float fetches) {
   float a = material.base_color.a;
-  if (has_texture[0]) {
-    a *= sample_slot(0, uv, in_).w;
+  if (has_texture[slot]) {
+    a *= sample_slot(slot, uv, in_).w;
     fetches += 1.0;
   }
   a *= in_.color.a;  // COLOR_0 (1 when the mesh has none)

@@ -4,12 +4,18 @@
 // slot 3 and cone.glsl's bracket-safe finish, in the relief shell; the self-shadow ray is searched
 // the same way.
 
-// Parameters, schema order.
-const int kSteps = 0;
-const int kDepthScale = 1;
-const int kShadowStepsParam = 2;
-const int kBinarySteps = 3;
-const int kFallbackSteps = 4;
+#include "prelude.glsl"
+
+// Parameters and texture slots by name (the generated prelude, docs/plugins.md).
+const int kSteps = kParam_cone_steps;
+const int kDepthScale = kParam_cone_depth_scale;
+const int kShadowStepsParam = kParam_cone_shadow_steps;
+const int kBinarySteps = kParam_cone_binary_steps;
+const int kFallbackSteps = kParam_cone_fallback_steps;
+const int kBaseColorSlot = kSlot_cone_base_color;
+const int kNormalSlot = kSlot_cone_normal;
+const int kDepthSlot = kSlot_cone_depth;
+const int kConeSlot = kSlot_cone_cone_conservative;
 
 #include "relief_shell.glsl"
 #include "cone.glsl"

@@ -6,9 +6,10 @@
 //     equations 1-4, listing 18-3 and figure 18-10).
 // Each function keeps its C++ name and follows it operation by operation; change both together.
 //
-// The cone map is texture slot 3 (kConeSlot); gl/gl_backend.cpp uploads it as 32-bit float of
-// the values Texture::fetch decodes (RGBA16F and R32F maps lose nothing), and the depth slot as
-// R32F. Cone maps and the relaxed march's depth are read with the CPU's nearest-texel rule
+// The cone map is texture slot kConeSlot (the twin defines it from the generated prelude's
+// kSlot_<technique>_<cone slot> before including this file); gl/gl_backend.cpp uploads it as
+// 32-bit float of the values Texture::fetch decodes (RGBA16F and R32F maps lose nothing), and the
+// depth slot as R32F. Cone maps and the relaxed march's depth are read with the CPU's nearest-texel rule
 // exactly (rasterizer/texture.cpp: level by GL's MIPMAP_NEAREST choice, floor(u * size), the
 // sampler's wrap) through texelFetch, so no driver rounding of nearest coordinates enters. The
 // march's filtered depth is the CPU's sample_r_lod too, re-done on texelFetch (sample_r_lod_cpu):
@@ -16,14 +17,8 @@
 // llvmpipe's filter weights (a few 1e-7 off the CPU's) decided that test the other way on 3% of
 // the pixels of `plane`.
 // texture_sampler[slot] holds the slot's (filter, wrap_u, wrap_v) as rasterizer/texture.h's
-// Filter and Wrap values.
+// Filter and Wrap values (kFilter*, kWrap*: the generated prelude).
 
-const int kConeSlot = 3;
-const int kWrapRepeat = 0;
-const int kWrapClamp = 1;
-const int kWrapMirror = 2;
-const int kFilterNearest = 0;
-const int kFilterBilinear = 1;
 uniform ivec3 texture_sampler[kMaxTextureSlots];
 
 // Depth units an occluder must rise above the shadow ray (plugins/cone_shell.h).

@@ -4,12 +4,18 @@
 // on Dummer's cone stepping, 2006): each ray uses the wider ratio of its quadrant, in the relief
 // shell; the self-shadow ray likewise.
 
-// Parameters, schema order.
-const int kSteps = 0;
-const int kDepthScale = 1;
-const int kShadowStepsParam = 2;
-const int kBinarySteps = 3;
-const int kFallbackSteps = 4;
+#include "prelude.glsl"
+
+// Parameters and texture slots by name (the generated prelude, docs/plugins.md).
+const int kSteps = kParam_cone_quad_steps;
+const int kDepthScale = kParam_cone_quad_depth_scale;
+const int kShadowStepsParam = kParam_cone_quad_shadow_steps;
+const int kBinarySteps = kParam_cone_quad_binary_steps;
+const int kFallbackSteps = kParam_cone_quad_fallback_steps;
+const int kBaseColorSlot = kSlot_cone_quad_base_color;
+const int kNormalSlot = kSlot_cone_quad_normal;
+const int kDepthSlot = kSlot_cone_quad_depth;
+const int kConeSlot = kSlot_cone_quad_cone_quad;
 
 #include "relief_shell.glsl"
 #include "cone.glsl"

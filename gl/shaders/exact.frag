@@ -4,8 +4,13 @@
 // Dynamic Height Field Rendering", I3D 2008: max-mip traversal; per-cell closed-form patch solve),
 // in the relief shell. The max-mip is the HeightFieldBuffer of exact.glsl.
 
-// Parameters, schema order.
-const int kDepthScale = 0;
+#include "prelude.glsl"
+
+// Parameters and texture slots by name (the generated prelude, docs/plugins.md).
+const int kDepthScale = kParam_exact_depth_scale;
+const int kBaseColorSlot = kSlot_exact_base_color;
+const int kNormalSlot = kSlot_exact_normal;
+const int kDepthSlot = kSlot_exact_depth;
 
 #include "relief_shell.glsl"
 #include "exact.glsl"

@@ -2,9 +2,12 @@
 // `flat`: GLSL twin of plugins/flat.cpp. Lambert and Blinn-Phong over the interpolated normal
 // and a base colour (texture or constant). The baseline every relief technique is compared
 // against.
-#include "common.glsl"
+#include "prelude.glsl"
 
-const int kBaseColorSlot = 0;
+// Parameters and texture slots by name (the generated prelude, docs/plugins.md).
+const int kBaseColorSlot = kSlot_flat_base_color;
+
+#include "common.glsl"
 
 #include "shadow_map.glsl"
 

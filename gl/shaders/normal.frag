@@ -2,13 +2,14 @@
 // `normal`: GLSL twin of plugins/normal.cpp. Tangent-space normal mapping (Blinn 1978,
 // "Simulation of wrinkled surfaces") with Blinn-Phong lighting: the surface keeps its polygonal
 // position, only the normal follows the map.
+#include "prelude.glsl"
+
+// Parameters and texture slots by name (the generated prelude, docs/plugins.md).
+const int kBaseColorSlot = kSlot_normal_base_color;
+const int kNormalSlot = kSlot_normal_normal;
+const int kNormalStrength = kParam_normal_normal_strength;
+
 #include "common.glsl"
-
-const int kBaseColorSlot = 0;
-const int kNormalSlot = 1;
-
-// Parameters, schema order.
-const int kNormalStrength = 0;
 
 #include "shadow_map.glsl"
 

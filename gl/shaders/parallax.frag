@@ -3,10 +3,15 @@
 // (Kaneko et al., "Detailed shape representation with parallax mapping", ICAT 2001), optional
 // offset limiting (Welsh, "Parallax mapping with offset limiting", 2004), in the relief shell.
 
-// Parameters, schema order.
-const int kDepthScale = 0;
-const int kOffsetLimiting = 1;
-const int kShadowStepsParam = 2;
+#include "prelude.glsl"
+
+// Parameters and texture slots by name (the generated prelude, docs/plugins.md).
+const int kDepthScale = kParam_parallax_depth_scale;
+const int kOffsetLimiting = kParam_parallax_offset_limiting;
+const int kShadowStepsParam = kParam_parallax_shadow_steps;
+const int kBaseColorSlot = kSlot_parallax_base_color;
+const int kNormalSlot = kSlot_parallax_normal;
+const int kDepthSlot = kSlot_parallax_depth;
 
 #include "relief_shell.glsl"
 

@@ -3,13 +3,18 @@
 // interpolation of the last two samples (Tatarchuk, "Dynamic Parallax Occlusion Mapping with
 // Approximate Soft Shadows", I3D 2006), in the relief shell.
 
-// Parameters, schema order.
-const int kSteps = 0;
-const int kMinSteps = 1;
-const int kDepthScale = 2;
-const int kShadowStepsParam = 3;
-#define RELIEF_LOD_PARAM 4  // `lod` (plugins/relief_shell.h SearchLod)
-#define RELIEF_MAX_MIP_SLOT 3  // kReliefMaxMipSlot
+#include "prelude.glsl"
+
+// Parameters and texture slots by name (the generated prelude, docs/plugins.md).
+const int kSteps = kParam_pom_steps;
+const int kMinSteps = kParam_pom_min_steps;
+const int kDepthScale = kParam_pom_depth_scale;
+const int kShadowStepsParam = kParam_pom_shadow_steps;
+#define RELIEF_LOD_PARAM kParam_pom_lod
+#define RELIEF_MAX_MIP_SLOT kSlot_pom_depth_max_mip
+const int kBaseColorSlot = kSlot_pom_base_color;
+const int kNormalSlot = kSlot_pom_normal;
+const int kDepthSlot = kSlot_pom_depth;
 
 #include "relief_shell.glsl"
 

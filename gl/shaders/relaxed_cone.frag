@@ -5,12 +5,18 @@
 // starts at H), bracket-safe (cone.glsl cone_finish), in the relief shell; the self-shadow ray is
 // relaxed-cone searched on the material's depth.
 
-// Parameters, schema order.
-const int kSteps = 0;
-const int kBinarySteps = 1;
-const int kDepthScale = 2;
-const int kShadowStepsParam = 3;
-const int kFallbackSteps = 4;
+#include "prelude.glsl"
+
+// Parameters and texture slots by name (the generated prelude, docs/plugins.md).
+const int kSteps = kParam_relaxed_cone_steps;
+const int kBinarySteps = kParam_relaxed_cone_binary_steps;
+const int kDepthScale = kParam_relaxed_cone_depth_scale;
+const int kShadowStepsParam = kParam_relaxed_cone_shadow_steps;
+const int kFallbackSteps = kParam_relaxed_cone_fallback_steps;
+const int kBaseColorSlot = kSlot_relaxed_cone_base_color;
+const int kNormalSlot = kSlot_relaxed_cone_normal;
+const int kDepthSlot = kSlot_relaxed_cone_depth;
+const int kConeSlot = kSlot_relaxed_cone_cone_relaxed;
 
 #include "relief_shell.glsl"
 #include "cone.glsl"

@@ -3,14 +3,19 @@
 // the step count by view angle (Policarpo, Oliveira and Comba, "Real-Time Relief Mapping on
 // Arbitrary Polygonal Surfaces", I3D 2005), in the relief shell.
 
-// Parameters, schema order.
-const int kSteps = 0;
-const int kBinarySteps = 1;
-const int kMinSteps = 2;
-const int kDepthScale = 3;
-const int kShadowStepsParam = 4;
-#define RELIEF_LOD_PARAM 5  // `lod` (plugins/relief_shell.h SearchLod)
-#define RELIEF_MAX_MIP_SLOT 3  // kReliefMaxMipSlot
+#include "prelude.glsl"
+
+// Parameters and texture slots by name (the generated prelude, docs/plugins.md).
+const int kSteps = kParam_relief_steps;
+const int kBinarySteps = kParam_relief_binary_steps;
+const int kMinSteps = kParam_relief_min_steps;
+const int kDepthScale = kParam_relief_depth_scale;
+const int kShadowStepsParam = kParam_relief_shadow_steps;
+#define RELIEF_LOD_PARAM kParam_relief_lod
+#define RELIEF_MAX_MIP_SLOT kSlot_relief_depth_max_mip
+const int kBaseColorSlot = kSlot_relief_base_color;
+const int kNormalSlot = kSlot_relief_normal;
+const int kDepthSlot = kSlot_relief_depth;
 
 #include "relief_shell.glsl"
 

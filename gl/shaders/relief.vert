@@ -3,14 +3,16 @@
 // (render/render.h) already computed clip positions and the standard varyings
 // (plugins/plugin.h, namespace varying), so both backends interpolate the same numbers:
 // attribute 0 is the clip position, attributes 1..6 the varyings as six vec4 (the 16 standard
-// ones, then COLOR_0 and TEXCOORD_1, padded: gl_backend.cpp kGlVaryings).
+// ones, then COLOR_0 and TEXCOORD_1, padded: gl_backend.cpp kGlVaryings; kCountGl of the
+// generated prelude).
+#include "prelude.glsl"
 
 layout(location = 0) in vec4 a_clip;
-layout(location = 1) in vec4 a_varyings[6];
+layout(location = 1) in vec4 a_varyings[kCountGl / 4];
 
 uniform vec2 viewport_size;
 
-out vec4 vary[6];
+out vec4 vary[kCountGl / 4];
 
 void main() {
   vec4 c = a_clip;
@@ -22,5 +24,5 @@ void main() {
     c.xy = vec2(ndc.x * double(c.w), -ndc.y * double(c.w));
   }
   gl_Position = c;
-  for (int i = 0; i < 6; ++i) vary[i] = a_varyings[i];
+  for (int i = 0; i < kCountGl / 4; ++i) vary[i] = a_varyings[i];
 }

@@ -8,22 +8,24 @@
 // `depth_back` the back layer reads 1. The back layer is sampled at the front layer's LOD.
 // Misses discard: no early fragment tests (common.glsl).
 #define RELIEF_MAY_DISCARD 1
+#include "prelude.glsl"
+
+// Parameters and texture slots by name (the generated prelude, docs/plugins.md).
+const int kSteps = kParam_relief_dual_steps;
+const int kBinarySteps = kParam_relief_dual_binary_steps;
+const int kMinSteps = kParam_relief_dual_min_steps;
+const int kDepthScale = kParam_relief_dual_depth_scale;
+const int kShadowStepsParam = kParam_relief_dual_shadow_steps;
+const int kBaseColorSlot = kSlot_relief_dual_base_color;
+const int kNormalSlot = kSlot_relief_dual_normal;
+const int kBackDepthSlot = kSlot_relief_dual_depth_back;
+const int kBackNormalSlot = kSlot_relief_dual_normal_back;
+const int kDepthSlot = kSlot_relief_dual_depth;
+
 #include "common.glsl"
 #include "ray.glsl"
 #include "search.glsl"
 #include "shadow_map.glsl"
-
-// Parameters, schema order.
-const int kSteps = 0;
-const int kBinarySteps = 1;
-const int kMinSteps = 2;
-const int kDepthScale = 3;
-const int kShadowStepsParam = 4;
-
-const int kBaseColorSlot = 0;
-const int kNormalSlot = 1;
-const int kBackDepthSlot = 3;
-const int kBackNormalSlot = 4;
 
 // The back layer at the front layer's LOD; 1 (FullDepth) when no map is bound.
 float sample_back(TextureDepth depth, vec2 uv) {
@@ -152,7 +154,8 @@ ShadeOut shade(FragIn in_) {
 #endif
 #if EFFECT_SHADOW_PASS
   // MASK casters cut their shadow by the base colour's alpha at the hit
-  if (material.alpha_mode == kAlphaMask) o.alpha = base_alpha_at(hit.uv, in_, o.fetches);
+  if (material.alpha_mode == kAlphaMask)
+    o.alpha = base_alpha_at(kBaseColorSlot, hit.uv, in_, o.fetches);
   return o;
 #else
   vec3 n = tf.n;

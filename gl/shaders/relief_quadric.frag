@@ -9,27 +9,30 @@
 // search=relaxed_cone: relaxed cone stepping on the deformed field, bracket-safe (quadric.glsl).
 // Misses discard: no early fragment tests (common.glsl).
 #define RELIEF_MAY_DISCARD 1
-#define RELIEF_MAX_MIP_SLOT 4  // depth_max_mip (lod=max-mip)
+#include "prelude.glsl"
+
+// Parameters and texture slots by name (the generated prelude, docs/plugins.md).
+#define RELIEF_MAX_MIP_SLOT kSlot_relief_quadric_depth_max_mip
+const int kSteps = kParam_relief_quadric_steps;
+const int kBinarySteps = kParam_relief_quadric_binary_steps;
+const int kMinSteps = kParam_relief_quadric_min_steps;
+const int kDepthScale = kParam_relief_quadric_depth_scale;
+const int kDistance = kParam_relief_quadric_distance;
+const int kSearch = kParam_relief_quadric_search;
+const int kConeSteps = kParam_relief_quadric_cone_steps;
+const int kFallbackSteps = kParam_relief_quadric_fallback_steps;
+const int kLod = kParam_relief_quadric_lod;
+const int kBaseColorSlot = kSlot_relief_quadric_base_color;
+const int kNormalSlot = kSlot_relief_quadric_normal;
+const int kDepthSlot = kSlot_relief_quadric_depth;
+const int kConeSlot = kSlot_relief_quadric_cone_relaxed;
+
 #include "common.glsl"
 #include "ray.glsl"
 #include "search.glsl"
 #include "cone.glsl"
 #include "quadric.glsl"
 #include "shadow_map.glsl"
-
-// Parameters, schema order.
-const int kSteps = 0;
-const int kBinarySteps = 1;
-const int kMinSteps = 2;
-const int kDepthScale = 3;
-const int kDistance = 4;
-const int kSearch = 5;
-const int kConeSteps = 6;
-const int kFallbackSteps = 7;
-const int kLod = 8;
-
-const int kBaseColorSlot = 0;
-const int kNormalSlot = 1;
 
 // The C++ ShadowMapReceiver (EFFECT_RECEIVE_SHADOW): the map at the hit, against the plane with
 // the shading normal; NoShadow otherwise.
@@ -89,7 +92,8 @@ ShadeOut shade(FragIn in_) {
 #endif
 #if EFFECT_SHADOW_PASS
   // MASK casters cut their shadow by the base colour's alpha at the hit
-  if (material.alpha_mode == kAlphaMask) o.alpha = base_alpha_at(hit_uv, in_, o.fetches);
+  if (material.alpha_mode == kAlphaMask)
+    o.alpha = base_alpha_at(kBaseColorSlot, hit_uv, in_, o.fetches);
   return o;
 #else
   vec3 n = tf.n;

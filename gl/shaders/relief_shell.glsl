@@ -8,8 +8,10 @@
 // "Real-Time Relief Mapping on Arbitrary Polygonal Surfaces", I3D 2005 (figure 10 for the shadow
 // ray, section 2 for the depth correction).
 //
-// A twin is its policy, as in C++. Before including this file it defines
+// A twin is its policy, as in C++. Before including this file it includes prelude.glsl and
+// defines, from the prelude's kParam_<technique>_* and kSlot_<technique>_* names,
 //   const int kDepthScale;  // schema index of "depth_scale"
+//   const int kBaseColorSlot, kNormalSlot, kDepthSlot;  // texture slots base_color, normal, depth
 // and, for a search with a `lod` parameter (the C++ policy's kLodParam and kMaxMipSlot),
 //   #define RELIEF_LOD_PARAM <index>  and  #define RELIEF_MAX_MIP_SLOT <slot>
 // and after it the two hooks declared below (search and shadow). The C++ kernel's template
@@ -19,9 +21,6 @@
 #include "search.glsl"
 #include "shadow.glsl"
 #include "shadow_map.glsl"
-
-const int kBaseColorSlot = 0;
-const int kNormalSlot = 1;
 
 // First hit of the ray uv + t * (ds, 1) in depth units (V: tangent-space view direction).
 SearchHit search(FragIn in_, TextureDepth depth, vec3 V, vec2 ds);
@@ -84,7 +83,8 @@ ShadeOut shade(FragIn in_) {
 #endif
 #if EFFECT_SHADOW_PASS
   // MASK casters cut their shadow by the base colour's alpha at the hit
-  if (material.alpha_mode == kAlphaMask) o.alpha = base_alpha_at(hit.uv, in_, o.fetches);
+  if (material.alpha_mode == kAlphaMask)
+    o.alpha = base_alpha_at(kBaseColorSlot, hit.uv, in_, o.fetches);
   return o;
 #else
   vec3 n = tf.n;

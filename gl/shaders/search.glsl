@@ -11,8 +11,8 @@
 // returns the hit and the steps and fetches it made (one depth sample = one fetch), as the C++
 // does per lane. Where the C++ masks lanes, a fragment here simply runs its own loop.
 
-// plugins/relief_shell.h ReliefSlot: the depth map's texture slot in every relief technique.
-const int kDepthSlot = 2;
+// kDepthSlot, the depth map's texture slot (plugins/relief_shell.h ReliefSlot), is defined by the
+// twin from the generated prelude (kSlot_<technique>_depth) before it includes this file.
 
 // rasterizer/texture.cpp: the isotropic LOD of a footprint (the larger of the two axes).
 float footprint(vec2 size, vec2 d) {

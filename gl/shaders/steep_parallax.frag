@@ -3,12 +3,17 @@
 // planes at a constant LOD and a self-shadow loop (McGuire and McGuire, "Steep Parallax Mapping",
 // I3D 2005 poster), in the relief shell.
 
-// Parameters, schema order.
-const int kSteps = 0;
-const int kDepthScale = 1;
-const int kShadowStepsParam = 2;
-#define RELIEF_LOD_PARAM 3  // `lod` (plugins/relief_shell.h SearchLod)
-#define RELIEF_MAX_MIP_SLOT 3  // kReliefMaxMipSlot
+#include "prelude.glsl"
+
+// Parameters and texture slots by name (the generated prelude, docs/plugins.md).
+const int kSteps = kParam_steep_parallax_steps;
+const int kDepthScale = kParam_steep_parallax_depth_scale;
+const int kShadowStepsParam = kParam_steep_parallax_shadow_steps;
+#define RELIEF_LOD_PARAM kParam_steep_parallax_lod
+#define RELIEF_MAX_MIP_SLOT kSlot_steep_parallax_depth_max_mip
+const int kBaseColorSlot = kSlot_steep_parallax_base_color;
+const int kNormalSlot = kSlot_steep_parallax_normal;
+const int kDepthSlot = kSlot_steep_parallax_depth;
 
 #include "relief_shell.glsl"
 

@@ -19,13 +19,19 @@
 #include "bake/cone_map.h"
 #include "builtin/builtin.h"
 #include "packet_fixture.h"
-#include "plugins/builtin.h"
+#include "plugins/plugin.h"
 #include "plugins/registry.h"
 #include "render/derived_maps.h"
 #include "render/render.h"
 #include "tests/test_dir.h"
 
 namespace relief {
+
+// The cone techniques' descriptors (plugins/cone.cpp, cone_quad.cpp, relaxed_cone.cpp).
+extern const PluginDescriptor kConePlugin;
+extern const PluginDescriptor kConeQuadPlugin;
+extern const PluginDescriptor kRelaxedConePlugin;
+
 namespace {
 
 namespace fs = std::filesystem;
