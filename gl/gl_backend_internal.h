@@ -23,6 +23,7 @@
 
 #include "base/status.h"
 #include "gl/context.h"
+#include "gl/gl_layout_internal.h"
 #include "render/render.h"
 
 namespace relief::gl_detail {
@@ -77,13 +78,8 @@ struct FramePrograms {
 void set_frame_uniforms(const Program& p, const FrameUniforms& f);
 void set_material_uniforms(const Program& p, const MaterialUniforms& m);
 
-// Storage-block bindings of gl/shaders/common.glsl (work counters) and exact.glsl (max-mip).
-constexpr GLuint kCountersBinding = 0;
-constexpr GLuint kHeightFieldBinding = 1;
-// common.glsl: kCounterSlots slots of kCounterCount counters, in WorkCounters order (see
-// GlBackend::read_counters).
-constexpr int kCounterSlots = 256;
-constexpr int kCounterCount = 5;
+// Texture units, storage-block bindings and buffer layouts shared with the GLSL twins.
+using namespace gl_layout;  // NOLINT: this folder's own names
 
 // How a texture is uploaded: as stored, or as 32-bit float of the values the CPU's sampler
 // decodes (Texture::fetch_r into R32F: depth maps and one-channel cone maps; Texture::fetch into
@@ -119,7 +115,7 @@ struct DrawRange {
 
 // The vertex stream: every draw's varyings padded to kGlVaryings floats (relief.vert's six vec4;
 // colour 1 and uv1 0 where the mesh has none).
-constexpr int kGlVaryings = 24;
+constexpr int kGlVaryings = (varying::kCountExtended + 3) / 4 * 4;  // the prelude's kCountGl
 static_assert(varying::kCountExtended <= kGlVaryings);
 
 // The texture and sampler objects per material and slot, and the exact twin's max-mip buffer.

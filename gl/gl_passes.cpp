@@ -12,15 +12,7 @@
 namespace relief::gl_detail {
 namespace {
 
-// Texture units of common.glsl's emissive_texture and occlusion_texture.
-constexpr GLuint kEmissiveUnit = 16;
-constexpr GLuint kOcclusionUnit = 17;
-
-// Storage-block binding of gl/shaders/shadow_map.glsl and the first texture unit of its maps.
-constexpr GLuint kShadowViewsBinding = 2;
-constexpr GLuint kShadowUnit = 8;
-// shadow_map.glsl: floats per light (16 header + 6 view + 6 projection matrices).
-constexpr int kShadowViewHeader = 16;
+// shadow_map.glsl: floats per light (the header, then the view and projection matrices).
 constexpr int kShadowViewFloats = kShadowViewHeader + 2 * kMaxShadowFaces * 16;
 
 // One light's ShadowMapView as shadow_map.glsl reads it (make_shadow_view's fields).

@@ -89,11 +89,11 @@ Status GlBackend::read_counters(WorkCounters& work) {
   uint64_t sum[kCounterCount] = {};
   for (int slot = 0; slot < kCounterSlots; ++slot)
     for (int k = 0; k < kCounterCount; ++k) sum[k] += c[slot * kCounterCount + k];
-  work.fragments = sum[0];
-  work.texture_fetches = sum[1];
-  work.search_steps = sum[2];
-  work.shadow_steps = sum[3];
-  work.discarded = sum[4];
+  work.fragments = sum[kCounterFragments];
+  work.texture_fetches = sum[kCounterFetches];
+  work.search_steps = sum[kCounterSearchSteps];
+  work.shadow_steps = sum[kCounterShadowSteps];
+  work.discarded = sum[kCounterDiscarded];
   return gl_check("work counters");
 }
 

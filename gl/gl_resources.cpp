@@ -132,8 +132,6 @@ std::pair<GLenum, GLenum> filters_gl(Filter f) {
 // varying count, unused; ints stored bit for bit), then the parts: (x0, y0) as ints, the corners
 // (x, y) x 3 and the CPU rasterizer's planes (depth, 1/w, the draw's varyings times 1/w: 16, or
 // kCountExtended with COLOR_0 or TEXCOORD_1), three floats each.
-constexpr GLuint kTrianglePlanesBinding = 3;
-constexpr int kTriangleHeader = 4;
 
 float int_bits(int32_t v) {
   float f;

@@ -109,8 +109,8 @@ uniform MaterialUniforms material;
 layout(binding = 0) uniform sampler2D textures[kMaxTextureSlots];
 uniform bool has_texture[kMaxTextureSlots];
 // Material-wide textures (gl_backend.cpp kEmissiveUnit, kOcclusionUnit).
-layout(binding = 16) uniform sampler2D emissive_texture;
-layout(binding = 17) uniform sampler2D occlusion_texture;
+layout(binding = kEmissiveUnit) uniform sampler2D emissive_texture;
+layout(binding = kOcclusionUnit) uniform sampler2D occlusion_texture;
 
 in vec4 vary[kCountGl / 4];
 
@@ -126,8 +126,7 @@ layout(location = 2) out vec4 out_aov1;  // normal.xyz
 // offsets from (x0, y0), in the same float operations. A pixel of a clipped triangle takes the
 // part whose corners hold its centre (helper pixels: the nearest). tri_base < 0 (warm-up draws)
 // or no part falls back to GL's own interpolation.
-const int kTriangleHeader = 4;
-layout(std430, binding = 3) readonly buffer TrianglePlanesBuffer { float tri_planes[]; };
+layout(std430, binding = kTrianglePlanesBinding) readonly buffer TrianglePlanesBuffer { float tri_planes[]; };
 uniform int tri_base;
 float exact_vary[kCountGl];
 float exact_z;
@@ -333,13 +332,10 @@ void resolve_alpha(inout ShadeOut o) {
 #if RELIEF_COUNT
 // rasterizer/fragment.h WorkCounters, summed by the backend over kCounterSlots slots (pixels hash
 // to a slot so that atomics on one address do not serialise a whole GPU).
-const uint kCounterSlots = 256u;
-const uint kCounterFragments = 0u, kCounterFetches = 1u, kCounterSearchSteps = 2u,
-           kCounterShadowSteps = 3u, kCounterDiscarded = 4u, kCounterCount = 5u;
-layout(std430, binding = 0) buffer WorkCountersBuffer { uint work_counters[]; };
+layout(std430, binding = kCountersBinding) buffer WorkCountersBuffer { uint work_counters[]; };
 
 void count_work(uint slot, uint counter, float n) {
-  if (n > 0.0) atomicAdd(work_counters[slot * kCounterCount + counter], uint(n));
+  if (n > 0.0) atomicAdd(work_counters[slot * uint(kCounterCount) + counter], uint(n));
 }
 #endif
 
@@ -347,12 +343,12 @@ void store_out(ShadeOut o) {
   resolve_alpha(o);
 #if RELIEF_COUNT
   uvec2 px = uvec2(gl_FragCoord.xy);
-  uint slot = (px.x * 7u + px.y * 61u) % kCounterSlots;
-  count_work(slot, kCounterFragments, 1.0);
-  count_work(slot, kCounterFetches, o.fetches);
-  count_work(slot, kCounterSearchSteps, o.steps);
-  count_work(slot, kCounterShadowSteps, o.shadow_steps);
-  count_work(slot, kCounterDiscarded, o.discarded ? 1.0 : 0.0);
+  uint slot = (px.x * 7u + px.y * 61u) % uint(kCounterSlots);
+  count_work(slot, uint(kCounterFragments), 1.0);
+  count_work(slot, uint(kCounterFetches), o.fetches);
+  count_work(slot, uint(kCounterSearchSteps), o.steps);
+  count_work(slot, uint(kCounterShadowSteps), o.shadow_steps);
+  count_work(slot, uint(kCounterDiscarded), o.discarded ? 1.0 : 0.0);
 #endif
   if (o.discarded) discard;
   out_color = vec4(o.color, o.alpha);

@@ -13,8 +13,7 @@
 // depth at its centre; repeat and mirror are periodic (mirror with period 2 * size), clamp
 // extends the edge texels; a cell is the square between four texel centres.
 
-const int kMaxFieldLevels = 16;  // gl/height_field.h kMaxFieldLevels
-layout(std430, binding = 1) readonly buffer HeightFieldBuffer {
+layout(std430, binding = kHeightFieldBinding) readonly buffer HeightFieldBuffer {
   int hf_periodic[2];  // per axis: u, v
   int hf_size[2];      // texels per uv unit
   int hf_period[2];    // texels of the expanded field

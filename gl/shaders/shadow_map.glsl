@@ -12,15 +12,13 @@
 // 8 + i), 32-bit float reversed-Z as the depth pass wrote them, read with texelFetch. The CPU map's
 // row 0 is the top (clip y = +1); the GL layer's row 0 is the bottom, so row ty is size - 1 - ty.
 
-const int kMaxShadowFaces = 6;
 const float kMaxShadowSlope = 10.0;
 // Layout of one view: size, faces, orthographic, position.xyz, znear, zfar, texel, depth_bias,
 // slope_bias, pcf_radius, 4 unused, then view[6] and proj[6] (16 floats each, column-major).
-const int kShadowViewHeader = 16;
 const int kShadowViewFloats = kShadowViewHeader + 2 * kMaxShadowFaces * 16;
 
-layout(std430, binding = 2) readonly buffer ShadowViewsBuffer { float shadow_views[]; };
-layout(binding = 8) uniform sampler2DArray shadow_depth[kMaxLights];
+layout(std430, binding = kShadowViewsBinding) readonly buffer ShadowViewsBuffer { float shadow_views[]; };
+layout(binding = kShadowUnit) uniform sampler2DArray shadow_depth[kMaxLights];
 
 float shadow_view_at(int light, int k) { return shadow_views[light * kShadowViewFloats + k]; }
 int shadow_faces(int light) { return int(shadow_view_at(light, 1)); }

@@ -13,8 +13,11 @@
 
 #include "gl/embedded_shaders.h"
 #include "gl/gl_backend.h"
+#include "gl/gl_layout_internal.h"
+#include "gl/height_field.h"
 #include "gl/shader.h"
 #include "plugins/registry.h"
+#include "shaders_cpp/shadow_map.h"
 
 namespace relief::gl {
 namespace {
@@ -88,6 +91,24 @@ TEST(ShaderPrelude, MatchesUniformsAndEveryBuiltinDescriptor) {
       {"kWrapRepeat", int(Wrap::kRepeat)},
       {"kWrapClamp", int(Wrap::kClamp)},
       {"kWrapMirror", int(Wrap::kMirror)},
+      {"kShadowUnit", gl_layout::kShadowUnit},
+      {"kEmissiveUnit", gl_layout::kEmissiveUnit},
+      {"kOcclusionUnit", gl_layout::kOcclusionUnit},
+      {"kCountersBinding", gl_layout::kCountersBinding},
+      {"kHeightFieldBinding", gl_layout::kHeightFieldBinding},
+      {"kShadowViewsBinding", gl_layout::kShadowViewsBinding},
+      {"kTrianglePlanesBinding", gl_layout::kTrianglePlanesBinding},
+      {"kTriangleHeader", gl_layout::kTriangleHeader},
+      {"kShadowViewHeader", gl_layout::kShadowViewHeader},
+      {"kMaxShadowFaces", kMaxShadowFaces},
+      {"kMaxFieldLevels", gl::kMaxFieldLevels},
+      {"kCounterSlots", gl_layout::kCounterSlots},
+      {"kCounterFragments", gl_layout::kCounterFragments},
+      {"kCounterFetches", gl_layout::kCounterFetches},
+      {"kCounterSearchSteps", gl_layout::kCounterSearchSteps},
+      {"kCounterShadowSteps", gl_layout::kCounterShadowSteps},
+      {"kCounterDiscarded", gl_layout::kCounterDiscarded},
+      {"kCounterCount", gl_layout::kCounterCount},
   };
   std::map<std::string, int> want = shared;
   for (const PluginDescriptor* p : PluginRegistry::global().all())
