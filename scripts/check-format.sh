@@ -3,8 +3,20 @@
 # (clang-format 14, --dry-run --Werror): prints each file that differs and fails.
 # Usage: check-format.sh [FILE...]; without files, every tracked .h/.cpp (a git checkout; outside
 # one, every .h/.cpp under the source folders). Fix with: clang-format -i FILE.
+# check-format.sh --self-test: a misformatted file written to a temporary folder must be refused.
 set -euo pipefail
 cd "$(dirname "$0")/.."
+if [ "${1:-}" = "--self-test" ]; then
+  d=$(mktemp -d)
+  trap 'rm -rf "$d"' EXIT
+  printf 'int  misformatted( ){return 1;}\n' >"$d/misformatted.cpp"
+  if out=$(bash "$0" "$d/misformatted.cpp" 2>&1); then
+    echo "check-format: self-test: a misformatted file was accepted" >&2
+    exit 1
+  fi
+  echo "$out"
+  exit 0
+fi
 cf=$(command -v clang-format-14 || command -v clang-format || true)
 if [ -z "$cf" ]; then
   echo "check-format: clang-format not found (scripts/install-deps.sh installs clang-format-14)" >&2
