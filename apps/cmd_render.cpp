@@ -88,6 +88,7 @@ nlohmann::json stats_json(const RenderResult& r, const std::string& scene, int w
   j["height"] = height;
   j["device"] = r.device;
   j["frame_ms"] = r.frame_ms;
+  j["prepare_ms"] = r.prepare_ms;
   j["compile_ms"] = r.compile_ms;
   j["upload_ms"] = r.upload_ms;
   j["readback_ms"] = r.readback_ms;

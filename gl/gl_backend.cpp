@@ -90,7 +90,10 @@ Result<RenderResult> GlBackend::render(const Scene& scene, const Plan& plan) {
   drop_unowned_textures();
 
   // Programs of the frame's variants (the first frame of a variant compiles it).
-  std::vector<PreparedDraw> prepared = prepare_draws(scene, plan.frame.view_proj);
+  // The prepare stage (render/render.h): world-space vertices once, clip positions per view.
+  const PreparedFrame prep = prepare_frame(scene, plan);
+  result.prepare_ms = prep.ms;
+  std::vector<PreparedDraw> prepared = view_draws(prep, plan.frame.view_proj);
   FramePrograms programs;
   RELIEF_RETURN_IF_ERROR(select_programs(plan, prepared, programs, &result.compile_ms));
 
@@ -108,7 +111,7 @@ Result<RenderResult> GlBackend::render(const Scene& scene, const Plan& plan) {
 
   // The passes: shadow maps (plan order), then the main pass.
   set_fixed_state(vao_);
-  RELIEF_RETURN_IF_ERROR(shadow_passes(scene, plan, programs, textures, count_work_, result));
+  RELIEF_RETURN_IF_ERROR(shadow_passes(prep, plan, programs, textures, count_work_, result));
   RELIEF_RETURN_IF_ERROR(main_pass(scene, plan, std::move(prepared), programs, textures, result));
 
   // Read back.

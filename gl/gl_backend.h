@@ -1,7 +1,7 @@
 // The GL backend (DESIGN.md, "The GL backend"): executes a Plan with OpenGL 4.5 core through EGL
 // (gl/context.h) and the GLSL twins of the plugins (gl/shaders/<plugin>.frag).
 //
-// Both backends see the same data: vertices come from prepare_draws (clip positions and the 16
+// Both backends see the same data: vertices come from prepare_frame (clip positions and the 16
 // standard varyings, uploaded as vertex attributes behind a pass-through vertex shader), textures
 // are uploaded from the same in-memory Texture levels (row 0 in memory is v = 0, sRGB colour as
 // GL_SRGB8_ALPHA8), the plugin parameters arrive as the uniform array material.params[] in schema

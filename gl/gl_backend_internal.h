@@ -187,14 +187,14 @@ class GlBackend final : public Backend {
 
   // --- passes (gl_passes.cpp)
   // Shadow passes (plan order), then the receivers' view of each map.
-  Status shadow_passes(const Scene& scene, const Plan& plan, const FramePrograms& programs,
+  Status shadow_passes(const PreparedFrame& prep, const Plan& plan, const FramePrograms& programs,
                        const DrawTextures& textures, bool count, RenderResult& result);
   // Renders the faces of one shadow pass into the layers of its depth texture.
-  Status shadow_pass(const Scene& scene, const Plan& plan, const PassPlan& pass,
+  Status shadow_pass(const PreparedFrame& prep, const Plan& plan, const PassPlan& pass,
                      const FramePrograms& programs, const DrawTextures& textures, bool count,
                      RenderResult& result);
   // One face of a shadow pass: its casters into layer `face` of `depth`.
-  Status shadow_face(const Scene& scene, const Plan& plan, const PassPlan& pass, int face,
+  Status shadow_face(const PreparedFrame& prep, const Plan& plan, const PassPlan& pass, int face,
                      GLuint depth, const FramePrograms& programs, const DrawTextures& textures,
                      bool count, PassStats& stats, double* compile_ms);
   // Uploads the receivers' ShadowMapView of each light and binds the maps drawn this frame.

@@ -108,17 +108,14 @@ void clear_main_target(GLuint fbo, const Scene& scene, bool aovs) {
 
 // The casters of a shadow pass (CPU: pass.instances with shadow_caster materials) as seen from
 // one face.
-std::vector<PreparedDraw> shadow_casters(const Scene& scene, const Plan& plan, const PassPlan& pass,
-                                         const FrameUniforms& frame) {
-  std::vector<bool> drawn(scene.instances.size(), false);
+std::vector<PreparedDraw> shadow_casters(const PreparedFrame& prep, const Plan& plan,
+                                         const PassPlan& pass, const FrameUniforms& frame) {
+  std::vector<bool> drawn(prep.instances.size(), false);
   for (int i : pass.instances) drawn[i] = true;
-  std::vector<PreparedDraw> prepared = prepare_draws(scene, frame.view_proj);
-  prepared.erase(std::remove_if(prepared.begin(), prepared.end(),
-                                [&](const PreparedDraw& d) {
-                                  return !drawn[d.instance] ||
-                                         !plan.materials[d.material].shadow_caster;
-                                }),
-                 prepared.end());
+  std::vector<PreparedDraw> prepared;
+  for (const PreparedInstance& p : prep.instances)
+    if (drawn[p.instance] && plan.materials[p.material].shadow_caster)
+      prepared.push_back(view_draw(p, frame.view_proj));
   return prepared;
 }
 
@@ -173,14 +170,15 @@ void GlBackend::end_pass(PassStats& stats, Clock::time_point t_pass) {
   stats.gpu_ms = gpu_ms > 0.0 && gpu_ms <= stats.ms * 1.05 + 0.05 ? gpu_ms : -1.0;
 }
 
-Status GlBackend::shadow_passes(const Scene& scene, const Plan& plan, const FramePrograms& programs,
-                                const DrawTextures& textures, bool count, RenderResult& result) {
+Status GlBackend::shadow_passes(const PreparedFrame& prep, const Plan& plan,
+                                const FramePrograms& programs, const DrawTextures& textures,
+                                bool count, RenderResult& result) {
   std::vector<float> views(static_cast<size_t>(kMaxLights) * kShadowViewFloats, 0.0f);
   for (const PassPlan& pass : plan.passes) {
     if (pass.kind != PassPlan::Kind::kShadow) continue;
     if (pass.light < 0 || pass.light >= kMaxLights)
       return Status::error("gl: shadow pass \"" + pass.name + "\" has no light uniform");
-    RELIEF_RETURN_IF_ERROR(shadow_pass(scene, plan, pass, programs, textures, count, result));
+    RELIEF_RETURN_IF_ERROR(shadow_pass(prep, plan, pass, programs, textures, count, result));
     pack_shadow_view(pass.shadow, plan.shadow,
                      &views[static_cast<size_t>(pass.light) * kShadowViewFloats]);
   }
@@ -206,7 +204,7 @@ void GlBackend::bind_shadow_maps(const std::vector<float>& views) {
   }
 }
 
-Status GlBackend::shadow_pass(const Scene& scene, const Plan& plan, const PassPlan& pass,
+Status GlBackend::shadow_pass(const PreparedFrame& prep, const Plan& plan, const PassPlan& pass,
                               const FramePrograms& programs, const DrawTextures& textures,
                               bool count, RenderResult& result) {
   PassStats stats = shadow_pass_stats(pass);
@@ -218,7 +216,7 @@ Status GlBackend::shadow_pass(const Scene& scene, const Plan& plan, const PassPl
   bool gpu_valid = true;
   for (int f = 0; f < pass.shadow.faces; ++f) {
     PassStats face;
-    RELIEF_RETURN_IF_ERROR(shadow_face(scene, plan, pass, f, depth, programs, textures, count, face,
+    RELIEF_RETURN_IF_ERROR(shadow_face(prep, plan, pass, f, depth, programs, textures, count, face,
                                        &result.compile_ms));
     pass_ms += face.ms;
     gpu_valid = gpu_valid && face.gpu_ms >= 0.0;
@@ -231,13 +229,13 @@ Status GlBackend::shadow_pass(const Scene& scene, const Plan& plan, const PassPl
   return {};
 }
 
-Status GlBackend::shadow_face(const Scene& scene, const Plan& plan, const PassPlan& pass, int face,
-                              GLuint depth, const FramePrograms& programs,
+Status GlBackend::shadow_face(const PreparedFrame& prep, const Plan& plan, const PassPlan& pass,
+                              int face, GLuint depth, const FramePrograms& programs,
                               const DrawTextures& textures, bool count, PassStats& stats,
                               double* compile_ms) {
   const ShadowPassSetup& s = pass.shadow;
   const FrameUniforms frame = shadow_face_frame(s, face);
-  const std::vector<PreparedDraw> prepared = shadow_casters(scene, plan, pass, frame);
+  const std::vector<PreparedDraw> prepared = shadow_casters(prep, plan, pass, frame);
   size_t warmup_offset = 0;
   const std::vector<DrawRange> ranges =
       upload_draws(prepared, programs.shadow, s.size, s.size, &warmup_offset);

@@ -111,15 +111,9 @@ class CpuBackend final : public Backend {
       result.framebuffer = Framebuffer(width, height, aovs);
     spare_ = Framebuffer();
 
-    // Plugin state (derived maps) per material, built once per frame here.
-    std::vector<std::unique_ptr<void, void (*)(void*)>> states;
-    std::vector<const void*> state_of(plan.materials.size(), nullptr);
-    for (size_t m = 0; m < plan.materials.size(); ++m) {
-      const BoundMaterial& b = plan.materials[m];
-      void* state = b.plugin->create_state ? b.plugin->create_state(b.uniforms) : nullptr;
-      if (state) states.emplace_back(state, b.plugin->destroy_state);
-      state_of[m] = state;
-    }
+    // The prepare stage: world-space vertices and plugin state, shared by every pass.
+    const PreparedFrame prep = prepare_frame(scene, plan);
+    result.prepare_ms = prep.ms;
     if (!rasterizer_) rasterizer_ = std::make_unique<Rasterizer>(pool_, RasterConfig{tile_size_});
 
     // Shadow passes: one depth map per face, kept until the main pass has read them.
@@ -130,7 +124,7 @@ class CpuBackend final : public Backend {
     views.reserve(plan.passes.size());
     for (const PassPlan& pass : plan.passes) {
       if (pass.kind != PassPlan::Kind::kShadow) continue;
-      maps.push_back(shadow_pass(scene, plan, pass, state_of, result));
+      maps.push_back(shadow_pass(plan, prep, pass, result));
       views.push_back(make_shadow_view(pass.shadow, maps.back(), plan.shadow));
       frame.lights[pass.light].shadow = &views.back();
     }
@@ -141,10 +135,10 @@ class CpuBackend final : public Backend {
     for (size_t m = 0; m < plan.materials.size(); ++m) {
       const BoundMaterial& b = plan.materials[m];
       bindings[m].fn = b.plugin->select(b.effects);
-      bindings[m].ctx = ShadeContext{&frame, &b.uniforms, state_of[m], b.effects};
+      bindings[m].ctx = ShadeContext{&frame, &b.uniforms, prep.state(m), b.effects};
       tests[m] = depth_test_for(b.plugin->depth_output(b.effects));
     }
-    const std::vector<PreparedDraw> prepared = prepare_draws(scene, frame.view_proj);
+    const std::vector<PreparedDraw> prepared = view_draws(prep, frame.view_proj);
     std::vector<DrawCall> draws;
     draws.reserve(prepared.size());
     // Plan::draw_order: opaque and MASK draws, then BLEND ones back to front (composited over
@@ -181,8 +175,8 @@ class CpuBackend final : public Backend {
  private:
   // Renders the depth maps of one shadow pass: every caster from each face of the light's view,
   // depth only (no colour, no AOVs); relief casters with their shadow-pass variant.
-  std::vector<Plane> shadow_pass(const Scene& scene, const Plan& plan, const PassPlan& pass,
-                                 const std::vector<const void*>& state_of, RenderResult& result) {
+  std::vector<Plane> shadow_pass(const Plan& plan, const PreparedFrame& prep, const PassPlan& pass,
+                                 RenderResult& result) {
     const auto t0 = Clock::now();
     const ShadowPassSetup& s = pass.shadow;
     PassStats stats = shadow_pass_stats(pass);
@@ -194,19 +188,23 @@ class CpuBackend final : public Backend {
       for (size_t m = 0; m < plan.materials.size(); ++m) {
         const BoundMaterial& b = plan.materials[m];
         bindings[m].fn = b.shadow_effects ? b.plugin->select(b.shadow_effects) : nullptr;
-        bindings[m].ctx = ShadeContext{&frame, &b.uniforms, state_of[m], b.shadow_effects};
+        bindings[m].ctx = ShadeContext{&frame, &b.uniforms, prep.state(m), b.shadow_effects};
         if (!bindings[m].fn && b.uniforms.alpha_mode == AlphaMode::kMask) {
           mask_uniforms[m] = mask_caster_uniforms(b);
           bindings[m].fn = &shade_packet<MaskCasterKernel>;
           bindings[m].ctx = ShadeContext{&frame, &mask_uniforms[m], nullptr, 0};
         }
       }
-      const std::vector<PreparedDraw> prepared = prepare_draws(scene, frame.view_proj);
+      // Clip positions of the casters only, each kept until the pass has drawn.
+      std::vector<PreparedDraw> prepared;
+      prepared.reserve(pass.instances.size());
+      for (int i : pass.instances)
+        if (plan.materials[prep.instances[i].material].shadow_caster)
+          prepared.push_back(view_draw(prep.instances[i], frame.view_proj));
       std::vector<DrawCall> draws;
-      for (int i : pass.instances) {
-        const PreparedDraw& p = prepared[i];
+      draws.reserve(prepared.size());
+      for (const PreparedDraw& p : prepared) {
         const BoundMaterial& b = plan.materials[p.material];
-        if (!b.shadow_caster) continue;
         DrawCall dc = make_draw(p, b);
         dc.color_write = false;
         if (bindings[p.material].fn) {

@@ -1,4 +1,6 @@
-// Vertex preparation shared by both backends: world-space varyings in the standard layout.
+// The prepare stage shared by both backends (render/render.h): world-space varyings in the standard
+// layout and plugin state, once per frame; clip positions per view.
+#include <chrono>
 #include <cmath>
 
 #include <glm/geometric.hpp>
@@ -8,14 +10,14 @@
 
 namespace relief {
 
-std::vector<PreparedDraw> prepare_draws(const Scene& scene, const glm::mat4& view_proj) {
-  std::vector<PreparedDraw> out;
+std::vector<PreparedInstance> prepare_instances(const Scene& scene) {
+  std::vector<PreparedInstance> out;
   out.reserve(scene.instances.size());
   for (size_t i = 0; i < scene.instances.size(); ++i) {
     const Instance& inst = scene.instances[i];
     const Mesh& mesh = scene.meshes[inst.mesh];
     const Material& mat = scene.materials[inst.material];
-    PreparedDraw d;
+    PreparedInstance d;
     d.instance = static_cast<int>(i);
     d.material = inst.material;
     d.indices = &mesh.indices;
@@ -24,7 +26,7 @@ std::vector<PreparedDraw> prepare_draws(const Scene& scene, const glm::mat4& vie
     const bool extended = !mesh.colors.empty() || !mesh.uvs1.empty();
     const int nv = extended ? varying::kCountExtended : varying::kCount;
     d.num_varyings = nv;
-    d.clip.resize(n);
+    d.world.resize(n);
     d.varyings.resize(n * nv);
     const glm::mat4 model = inst.transform;
     const glm::mat3 linear(model);
@@ -32,7 +34,7 @@ std::vector<PreparedDraw> prepare_draws(const Scene& scene, const glm::mat4& vie
     const float handedness = glm::determinant(linear) < 0.0f ? -1.0f : 1.0f;
     for (size_t v = 0; v < n; ++v) {
       const glm::vec4 wp = model * glm::vec4(mesh.positions[v], 1.0f);
-      d.clip[v] = view_proj * wp;
+      d.world[v] = wp;
       float* o = &d.varyings[v * nv];
       const glm::vec3 nrm =
           v < mesh.normals.size() ? normal_matrix * mesh.normals[v] : glm::vec3(0, 0, 1);
@@ -74,6 +76,46 @@ std::vector<PreparedDraw> prepare_draws(const Scene& scene, const glm::mat4& vie
     }
     out.push_back(std::move(d));
   }
+  return out;
+}
+
+PreparedFrame prepare_frame(const Scene& scene, const Plan& plan) {
+  const auto t0 = std::chrono::steady_clock::now();
+  PreparedFrame frame;
+  frame.instances = prepare_instances(scene);
+  frame.states.resize(plan.materials.size());
+  for (size_t m = 0; m < plan.materials.size(); ++m) {
+    const PluginDescriptor* plugin = plan.materials[m].plugin;
+    if (!plugin || !plugin->create_state) continue;
+    void* state = plugin->create_state(plan.materials[m].uniforms);
+    void (*destroy)(void*) = plugin->destroy_state;
+    if (state)
+      frame.states[m] = std::shared_ptr<void>(state, [destroy](void* s) {
+        if (destroy) destroy(s);
+      });
+  }
+  frame.ms =
+      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  return frame;
+}
+
+PreparedDraw view_draw(const PreparedInstance& instance, const glm::mat4& view_proj) {
+  PreparedDraw d;
+  d.instance = instance.instance;
+  d.material = instance.material;
+  d.clip.resize(instance.world.size());
+  for (size_t v = 0; v < instance.world.size(); ++v) d.clip[v] = view_proj * instance.world[v];
+  d.varyings = instance.varyings;
+  d.num_varyings = instance.num_varyings;
+  d.indices = instance.indices;
+  return d;
+}
+
+std::vector<PreparedDraw> view_draws(const PreparedFrame& frame, const glm::mat4& view_proj) {
+  std::vector<PreparedDraw> out;
+  out.reserve(frame.instances.size());
+  for (const PreparedInstance& instance : frame.instances)
+    out.push_back(view_draw(instance, view_proj));
   return out;
 }
 

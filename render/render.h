@@ -4,12 +4,13 @@
 // and bound material it draws with, keeping only the effects the scene calls for. A Backend
 // executes a Plan: the CPU backend (render/cpu_backend.cpp) with the tile rasterizer and the C++
 // plugins, the GL backend (gl/) with their GLSL twins. Both read the same prepared vertex data
-// (prepare_draws), the same textures and the same uniforms, and return the same RenderResult.
+// (prepare_frame), the same textures and the same uniforms, and return the same RenderResult.
 #pragma once
 
 #include <algorithm>
 #include <map>
 #include <memory>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -96,16 +97,46 @@ inline glm::vec4 clear_color(const Scene& scene) {
   return glm::vec4(glm::vec3(scene.background) * a, a);
 }
 
-// Vertex data of one instance, in the standard varying layout (plugins/plugin.h).
-struct PreparedDraw {
+// The prepare stage (DESIGN.md, "One frame, as data", step 2): what every pass of a frame reads,
+// made once at the start of the frame by whichever backend runs it. The world-space vertex data
+// of every instance does not depend on the view, so the main pass and every shadow-map face share
+// it and each pass transforms only the positions it draws to clip space (view_draw); the plugin
+// state of each bound material (PluginDescriptor::create_state) is made once too. Cross-frame
+// reuse (geometry that did not move) needs the scene to say what changed: issue 26.
+
+// World-space vertex data of one instance, in the standard varying layout (plugins/plugin.h).
+struct PreparedInstance {
   int instance = 0;
   int material = 0;
-  std::vector<glm::vec4> clip;
+  std::vector<glm::vec4> world;        // model * (position, 1) per vertex
   std::vector<float> varyings;         // num_varyings per vertex
   int num_varyings = varying::kCount;  // kCountExtended when the mesh has COLOR_0 or TEXCOORD_1
   const std::vector<uint32_t>* indices = nullptr;
 };
-std::vector<PreparedDraw> prepare_draws(const Scene& scene, const glm::mat4& view_proj);
+// Every instance of the scene, in submission order.
+std::vector<PreparedInstance> prepare_instances(const Scene& scene);
+
+struct PreparedFrame {
+  std::vector<PreparedInstance> instances;    // parallel to Scene::instances
+  std::vector<std::shared_ptr<void>> states;  // parallel to Plan::materials; null: no state
+  double ms = 0.0;                            // wall time of prepare_frame
+  const void* state(int material) const { return states[material].get(); }
+};
+PreparedFrame prepare_frame(const Scene& scene, const Plan& plan);
+
+// One instance seen from one view: its clip positions, and its prepared varyings (borrowed from
+// the PreparedInstance, which must outlive it).
+struct PreparedDraw {
+  int instance = 0;
+  int material = 0;
+  std::vector<glm::vec4> clip;
+  std::span<const float> varyings;  // num_varyings per vertex
+  int num_varyings = varying::kCount;
+  const std::vector<uint32_t>* indices = nullptr;
+};
+PreparedDraw view_draw(const PreparedInstance& instance, const glm::mat4& view_proj);
+// Every prepared instance from one view, in submission order.
+std::vector<PreparedDraw> view_draws(const PreparedFrame& frame, const glm::mat4& view_proj);
 
 struct PassStats {
   std::string name;
@@ -135,6 +166,9 @@ struct RenderResult {
   std::vector<PassStats> passes;
   double frame_ms = 0.0;
   std::string device;  // "cpu (N threads)" or the GL renderer string
+  // Both backends, part of frame_ms: the prepare stage (prepare_frame: world-space vertices and
+  // plugin state, once per frame).
+  double prepare_ms = 0.0;
   // GL backend, parts of frame_ms: shader compile and link (non-zero on the first frame of a
   // variant, zero in steady state), texture and vertex uploads, and reading the images back.
   double compile_ms = 0.0;

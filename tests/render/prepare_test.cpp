@@ -16,7 +16,7 @@ namespace relief {
 namespace {
 
 std::vector<glm::vec2> prepared_quadrics(const Scene& scene) {
-  const std::vector<PreparedDraw> draws = prepare_draws(scene, glm::mat4(1.0f));
+  const std::vector<PreparedInstance> draws = prepare_instances(scene);
   std::vector<glm::vec2> q;
   for (size_t v = 0; v * varying::kCount < draws.at(0).varyings.size(); ++v) {
     const float* o = &draws[0].varyings[v * varying::kCount];
@@ -57,6 +57,71 @@ TEST(Prepare, ScaledInstanceSeesTheQuadricOfTheScaledMesh) {
     }
     EXPECT_GT(curved, static_cast<int>(a.size()) / 2);  // the sphere is curved almost everywhere
   }
+}
+
+// A view's draw is the instance's world positions through the view, bit for bit what transforming
+// the mesh's positions by model then view_proj gives, and it borrows the prepared varyings.
+TEST(Prepare, ViewDrawTransformsTheSharedWorldPositions) {
+  Result<Scene> scene = make_builtin_scene("sphere");
+  ASSERT_TRUE(scene.ok());
+  scene->instances[0].transform =
+      glm::rotate(glm::translate(glm::mat4(1.0f), glm::vec3(0.5f, -1.0f, 2.0f)), 0.4f,
+                  glm::vec3(0.0f, 1.0f, 0.0f));
+  const std::vector<PreparedInstance> instances = prepare_instances(*scene);
+  ASSERT_EQ(instances.size(), 1u);
+  const Mesh& mesh = scene->meshes[scene->instances[0].mesh];
+  const glm::mat4 view_proj = glm::perspective(0.8f, 1.5f, 0.1f, 50.0f) *
+                              glm::lookAt(glm::vec3(1, 2, 5), glm::vec3(0), glm::vec3(0, 1, 0));
+  const PreparedDraw draw = view_draw(instances[0], view_proj);
+  ASSERT_EQ(draw.clip.size(), mesh.positions.size());
+  for (size_t v = 0; v < mesh.positions.size(); ++v) {
+    const glm::vec4 expected =
+        view_proj * (scene->instances[0].transform * glm::vec4(mesh.positions[v], 1.0f));
+    ASSERT_EQ(draw.clip[v], expected) << v;
+  }
+  EXPECT_EQ(draw.varyings.data(), instances[0].varyings.data());
+  EXPECT_EQ(draw.varyings.size(), instances[0].varyings.size());
+}
+
+int g_created = 0, g_destroyed = 0;
+void* count_create(const MaterialUniforms&) {
+  ++g_created;
+  return new int(7);
+}
+void count_destroy(void* s) {
+  ++g_destroyed;
+  delete static_cast<int*>(s);
+}
+
+// Plugin state is made once per frame per material that asks for it, by the prepare stage, and
+// freed with the prepared frame.
+TEST(Prepare, PluginStateIsMadeOncePerMaterialAndFreed) {
+  Result<Scene> scene = make_builtin_scene("sphere");
+  ASSERT_TRUE(scene.ok());
+  PluginDescriptor with_state{};
+  with_state.name = "with_state";
+  with_state.create_state = &count_create;
+  with_state.destroy_state = &count_destroy;
+  PluginDescriptor without_state{};
+  without_state.name = "without_state";
+  Plan plan;
+  plan.materials.resize(3);
+  plan.materials[0].plugin = &with_state;
+  plan.materials[1].plugin = &without_state;
+  plan.materials[2].plugin = &with_state;
+  g_created = g_destroyed = 0;
+  {
+    const PreparedFrame prep = prepare_frame(*scene, plan);
+    EXPECT_EQ(g_created, 2);
+    ASSERT_EQ(prep.states.size(), 3u);
+    ASSERT_NE(prep.state(0), nullptr);
+    EXPECT_EQ(*static_cast<const int*>(prep.state(0)), 7);
+    EXPECT_EQ(prep.state(1), nullptr);
+    EXPECT_NE(prep.state(2), prep.state(0));
+    EXPECT_EQ(prep.instances.size(), scene->instances.size());
+    EXPECT_EQ(g_destroyed, 0);
+  }
+  EXPECT_EQ(g_destroyed, 2);
 }
 
 }  // namespace
