@@ -1,7 +1,7 @@
 // `relief bake --dual MESH.gltf -o PREFIX [--size N] [--grow G] [--threads N]`: dual-depth relief
 // textures (Policarpo, Oliveira and Comba, "Real-Time Relief Mapping on Arbitrary Polygonal
 // Surfaces", I3D 2005, section 3.1) of every mesh instance of a glTF scene, rendered
-// orthographically along -z with our rasterizer (bake/dual_depth.h) into
+// orthographically along -z with our rasterizer (bake/dual_depth_maps.h) into
 //   PREFIX_front.exr, PREFIX_back.exr             depth layers (one float channel: 0 top, 1
 //                                                 deepest; absent: front 1, back 0)
 //   PREFIX_front_normal.exr, PREFIX_back_normal.exr  outward normals, RGB = n * 0.5 + 0.5, linear,
@@ -21,7 +21,7 @@
 #include <glm/matrix.hpp>
 
 #include "apps/commands.h"
-#include "bake/dual_depth.h"
+#include "bake/dual_depth_maps.h"
 #include "rasterizer/output_file.h"
 #include "rasterizer/safe_file.h"
 #include "scene/gltf.h"

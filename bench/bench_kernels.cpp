@@ -25,7 +25,7 @@
 #include "builtin/builtin.h"
 #include "render/derived_maps.h"
 #include "shaders_cpp/cone.h"
-#include "shaders_cpp/exact.h"
+#include "shaders_cpp/exact_trace.h"
 #include "shaders_cpp/search.h"
 
 #if HWY_ONCE

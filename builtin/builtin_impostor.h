@@ -1,9 +1,9 @@
 // The built-in `impostor` scene: a whole object drawn on one quad from dual-depth relief textures
 // (Policarpo, Oliveira and Comba, "Real-Time Relief Mapping on Arbitrary Polygonal Surfaces",
-// I3D 2005, section 3.1), baked in code with our rasterizer (bake/dual_depth.h).
+// I3D 2005, section 3.1), baked in code with our rasterizer (bake/dual_depth_maps.h).
 #pragma once
 
-#include "bake/dual_depth.h"
+#include "bake/dual_depth_maps.h"
 #include "scene/scene.h"
 
 namespace relief {

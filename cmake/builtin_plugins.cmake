@@ -1,6 +1,6 @@
-# Writes the built-in plugin list plugins/builtin.cpp includes (builtin_plugins.inc): one
+# Writes the built-in plugin list plugins/builtin_plugins.cpp includes (builtin_plugins.inc): one
 # RELIEF_BUILTIN(descriptor) line per `RELIEF_BUILTIN_PLUGIN(descriptor);` marker at the start of
-# a line in PLUGIN_DIR/*.cpp (plugins/builtin.h), sorted by file name. Run at build time by the
+# a line in PLUGIN_DIR/*.cpp (plugins/builtin_plugins.h), sorted by file name. Run at build time by the
 # relief_plugins target whenever a plugin source changes; rewrites OUTPUT only when the list
 # changed, then touches STAMP.
 # Usage: cmake -DPLUGIN_DIR=... -DOUTPUT=... -DSTAMP=... -P builtin_plugins.cmake

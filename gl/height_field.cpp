@@ -1,11 +1,12 @@
-// Packs the max-mip of shaders_cpp/exact.cpp (Tevs, Ihrke and Seidel, "Maximum Mipmaps for Fast,
-// Accurate, and Scalable Dynamic Height Field Rendering", I3D 2008) for gl/shaders/exact.glsl.
+// Packs the max-mip of shaders_cpp/exact_trace.cpp (Tevs, Ihrke and Seidel, "Maximum Mipmaps for
+// Fast, Accurate, and Scalable Dynamic Height Field Rendering", I3D 2008) for
+// gl/shaders/exact.glsl.
 #include "gl/height_field.h"
 
 #include <cstring>
 #include <string>
 
-#include "shaders_cpp/exact.h"
+#include "shaders_cpp/exact_trace.h"
 
 namespace relief::gl {
 namespace {

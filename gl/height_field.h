@@ -1,6 +1,6 @@
 // The max-mip height field of the `exact` twin (gl/shaders/exact.glsl, HeightFieldBuffer), packed
-// for a shader storage block from the same data the CPU's shaders_cpp/exact.h HeightField is built
-// from: the first channel of level 0 of the depth texture (Texture::fetch_r, as
+// for a shader storage block from the same data the CPU's shaders_cpp/exact_trace.h HeightField is
+// built from: the first channel of level 0 of the depth texture (Texture::fetch_r, as
 // HeightField::from_texture reads it) and the sampler's wrap modes. Tevs, Ihrke and Seidel,
 // "Maximum Mipmaps for Fast, Accurate, and Scalable Dynamic Height Field Rendering", I3D 2008.
 //

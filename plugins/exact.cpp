@@ -1,16 +1,16 @@
 // `exact`: the exact first hit on the bilinear height field: the accuracy reference
 // Tevs, Ihrke and Seidel, "Maximum Mipmaps for Fast, Accurate, and Scalable Dynamic Height Field
 // Rendering", I3D 2008 (max-mip traversal; per-cell closed-form patch solve in
-// shaders_cpp/exact.cpp). The max-mip traversal of shaders_cpp/exact.h inside the shared shell
-// (plugins/relief_shell.h); the self-shadow answer is exact too. The max-mip is the plugin's
-// per-material state.
+// shaders_cpp/exact_trace.cpp). The max-mip traversal of shaders_cpp/exact_trace.h inside the
+// shared shell (plugins/relief_shell.h); the self-shadow answer is exact too. The max-mip is the
+// plugin's per-material state.
 #undef HWY_TARGET_INCLUDE
 #define HWY_TARGET_INCLUDE "plugins/exact.cpp"
 #include <hwy/foreach_target.h>  // IWYU pragma: keep
 
-#include "plugins/builtin.h"
+#include "plugins/builtin_plugins.h"
 #include "plugins/relief_shell.h"
-#include "shaders_cpp/exact.h"
+#include "shaders_cpp/exact_trace.h"
 
 HWY_BEFORE_NAMESPACE();
 namespace relief {

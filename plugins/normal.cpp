@@ -4,7 +4,7 @@
 #define HWY_TARGET_INCLUDE "plugins/normal.cpp"
 #include <hwy/foreach_target.h>  // IWYU pragma: keep
 
-#include "plugins/builtin.h"
+#include "plugins/builtin_plugins.h"
 #include "plugins/surface.h"
 
 HWY_BEFORE_NAMESPACE();

@@ -7,7 +7,7 @@
 #define HWY_TARGET_INCLUDE "plugins/parallax.cpp"
 #include <hwy/foreach_target.h>  // IWYU pragma: keep
 
-#include "plugins/builtin.h"
+#include "plugins/builtin_plugins.h"
 #include "plugins/relief_shell.h"
 
 HWY_BEFORE_NAMESPACE();

@@ -7,9 +7,9 @@
 // fragment. The shader is called once per packet of quads (rasterizer/fragment.h); dispatch is
 // resolved per draw, never per fragment.
 //
-// Built-in plugins mark their descriptor (plugins/builtin.h). An external plugin is a shared object
-// exporting `extern "C" const relief::PluginDescriptor* relief_plugin_entry(void)` whose
-// abi_version equals kPluginAbiVersion.
+// Built-in plugins mark their descriptor (plugins/builtin_plugins.h). An external plugin is a
+// shared object exporting `extern "C" const relief::PluginDescriptor* relief_plugin_entry(void)`
+// whose abi_version equals kPluginAbiVersion.
 #pragma once
 
 #include <cstdint>

@@ -1,4 +1,5 @@
-// Plugins by name: the built-ins (plugins/builtin.cpp) and those loaded from shared objects.
+// Plugins by name: the built-ins (plugins/builtin_plugins.cpp) and those loaded from shared
+// objects.
 #pragma once
 
 #include <map>

@@ -11,7 +11,7 @@
 #define HWY_TARGET_INCLUDE "plugins/relaxed_cone.cpp"
 #include <hwy/foreach_target.h>  // IWYU pragma: keep
 
-#include "plugins/builtin.h"
+#include "plugins/builtin_plugins.h"
 #include "plugins/cone_shell.h"
 
 HWY_BEFORE_NAMESPACE();

@@ -13,7 +13,7 @@
 #define HWY_TARGET_INCLUDE "plugins/relief_dual.cpp"
 #include <hwy/foreach_target.h>  // IWYU pragma: keep
 
-#include "plugins/builtin.h"
+#include "plugins/builtin_plugins.h"
 #include "plugins/relief_shell.h"
 #include "shaders_cpp/dual_depth.h"
 

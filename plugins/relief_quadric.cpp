@@ -18,7 +18,7 @@
 #define HWY_TARGET_INCLUDE "plugins/relief_quadric.cpp"
 #include <hwy/foreach_target.h>  // IWYU pragma: keep
 
-#include "plugins/builtin.h"
+#include "plugins/builtin_plugins.h"
 #include "plugins/cone_shell.h"
 #include "plugins/relief_shell.h"
 #include "shaders_cpp/quadric.h"

@@ -2,7 +2,7 @@
 // the cone family): the per-fragment tangent frame, the view ray in texture space, the constant
 // LOD per quad, depth correction of the hit, shading at the hit with the normal and base-colour
 // maps, and the visibility hook: the technique's self-shadow ray, then (kEffectReceiveShadow) the
-// light's shadow map (shaders_cpp/shadow_map.h) looked up at the displaced hit point. With
+// light's shadow map (shaders_cpp/shadow_lookup.h) looked up at the displaced hit point. With
 // kEffectShadowPass the kernel stops after the intersection and the corrected depth: the frame's
 // "eye" is then the light (orthographic with view_dir for a directional light). Policarpo,
 // Oliveira and Comba, "Real-Time Relief Mapping on Arbitrary Polygonal Surfaces", I3D 2005

@@ -13,7 +13,7 @@
 #include "plugins/shading.h"
 #include "shaders_cpp/lighting.h"
 #include "shaders_cpp/sampling_simd.h"
-#include "shaders_cpp/shadow_map.h"
+#include "shaders_cpp/shadow_lookup.h"
 
 #include <hwy/highway.h>
 

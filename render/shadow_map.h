@@ -22,7 +22,7 @@
 #include "plugins/plugin.h"
 #include "rasterizer/image.h"
 #include "scene/scene.h"
-#include "shaders_cpp/shadow_map.h"
+#include "shaders_cpp/shadow_lookup.h"
 
 namespace relief {
 

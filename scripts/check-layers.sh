@@ -5,9 +5,10 @@
 #   base -> rasterizer -> shaders_cpp -> {plugins, bake} -> scene -> {builtin, render} -> gl
 #   -> sweep -> apps
 # (a folder may include any folder listed as below it here). Exceptions are listed file by file
-# with the work that removes them; a new one is a design change, not a quick fix.
+# with the work that removes them; a new one is a design change, not a quick fix. File names are
+# unique across the library folders.
 # Usage: check-layers.sh [REPO_DIR]; check-layers.sh --self-test (a tree with a kernel header that
-# includes render/: the check must refuse it).
+# includes render/, then one with two shadow_map.h: the check must refuse both).
 set -euo pipefail
 if [ "${1:-}" = "--self-test" ]; then
   d=$(mktemp -d)
@@ -16,6 +17,14 @@ if [ "${1:-}" = "--self-test" ]; then
   echo '#include "render/render.h"' > "$d/shaders_cpp/kernel.h"
   if out=$(bash "$0" "$d" 2>&1); then
     echo "check-layers: self-test: a kernel including render/ was accepted" >&2
+    exit 1
+  fi
+  echo "$out"
+  # Two folders with a file of the same name must be refused as well.
+  rm "$d/shaders_cpp/kernel.h"
+  touch "$d/shaders_cpp/shadow_map.h" "$d/render/shadow_map.h"
+  if out=$(bash "$0" "$d" 2>&1); then
+    echo "check-layers: self-test: two shadow_map.h were accepted" >&2
     exit 1
   fi
   echo "$out"
@@ -68,5 +77,15 @@ for folder in "${!allowed[@]}"; do
       bad=1
     done < <(sed -n 's/^#include "\([a-z_]*\/[^"]*\)".*/\1/p' "$f")
   done
+done
+# No two library folders hold a file of the same name (a header's name says which one it is).
+dupes=$(for folder in "${!allowed[@]}"; do
+  for f in "$folder"/*.h "$folder"/*.cpp; do
+    [ -e "$f" ] && basename "$f"
+  done
+done | sort | uniq -d || true)
+for name in $dupes; do
+  echo "check-layers: $name is in more than one library folder: rename one" >&2
+  bad=1
 done
 exit $bad

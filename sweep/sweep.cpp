@@ -14,7 +14,7 @@
 #include "render/compare.h"
 #include "render/render.h"
 #include "render/renderer.h"
-#include "shaders_cpp/exact.h"
+#include "shaders_cpp/exact_trace.h"
 
 namespace relief::sweep {
 namespace {

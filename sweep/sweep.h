@@ -189,7 +189,7 @@ struct SweepResult {
 Result<SweepResult> run_sweep(const std::vector<Field>& fields,
                               const std::vector<Setting>& settings, const Options& options);
 
-// ---- output (sweep/output.cpp) ----
+// ---- output (sweep/tables.cpp) ----
 // The documented columns of --csv and of each row object of --json, in order.
 const std::vector<std::string>& columns();
 std::string to_csv(const std::vector<Row>& rows);

@@ -1,4 +1,4 @@
-// Twin of shaders_cpp/exact.h and shaders_cpp/exact.cpp: the first intersection of a texture-space
+// Twin of shaders_cpp/exact_trace.h and shaders_cpp/exact_trace.cpp: the first intersection of a texture-space
 // ray with the bilinearly reconstructed height field, by top-down traversal of a max-mip (Tevs,
 // Ihrke and Seidel, "Maximum Mipmaps for Fast, Accurate, and Scalable Dynamic Height Field
 // Rendering", I3D 2008) and a closed-form solve of the ray against each candidate bilinear patch.
@@ -9,7 +9,7 @@
 // The field arrives in the HeightFieldBuffer storage block, built by gl/height_field.cpp from the
 // same texels HeightField::from_texture reads (level 0 of the depth texture, the sampler's wraps):
 // the expanded texels (period_u x period_v, row-major) at hf_data[0], then the max-mip levels,
-// level 0 holding one minimum per cell. Conventions of shaders_cpp/exact.h: texel (i, j) holds
+// level 0 holding one minimum per cell. Conventions of shaders_cpp/exact_trace.h: texel (i, j) holds
 // depth at its centre; repeat and mirror are periodic (mirror with period 2 * size), clamp
 // extends the edge texels; a cell is the square between four texel centres.
 
@@ -67,7 +67,7 @@ bool clip_slab(double x0, double dx, double lo, double hi, inout double pa, inou
   return pa <= pb;
 }
 
-// One axis of a line through the periodic or clamped domain (exact.cpp AxisWalk).
+// One axis of a line through the periodic or clamped domain (exact_trace.cpp AxisWalk).
 struct AxisWalk {
   bool periodic;
   double x0, dx, extent;
@@ -119,7 +119,7 @@ dvec2 walk_mapped(AxisWalk w) {
   return dvec2(w.region < 0 ? 0.0LF : w.extent, 0.0LF);
 }
 
-// The traversal state (exact.cpp Query), one query at a time per fragment.
+// The traversal state (exact_trace.cpp Query), one query at a time per fragment.
 Axis q_ax, q_ay;
 dvec2 q_line_x, q_line_y;  // mapped line of the current segment: (x0, dx), (y0, dy)
 double q_z0, q_dz;         // ray depth at parameter p: z0 + dz p
@@ -185,7 +185,7 @@ bool solve_cell(int i, int j, double pa, double pb) {
   return true;
 }
 
-// Depth-first traversal from the root over [pa, pb] of the current segment: exact.cpp visit_node
+// Depth-first traversal from the root over [pa, pb] of the current segment: exact_trace.cpp visit_node
 // with its recursion unrolled onto a stack (at most 3 pending siblings per level).
 const int kTraversalStack = 3 * kMaxFieldLevels;
 bool visit_tree(double root_pa, double root_pb) {
@@ -262,7 +262,7 @@ bool visit_tree(double root_pa, double root_pb) {
 // thousand periods), so that bad input cannot hang the device.
 const int kMaxSegments = 1 << 20;
 
-// Splits p in [0, pmax] where either axis's mapping changes (exact.cpp for_segments) and traverses
+// Splits p in [0, pmax] where either axis's mapping changes (exact_trace.cpp for_segments) and traverses
 // each piece, clipped to the domain, until one hits.
 bool traverse_segments(double x0, double dx, double y0, double dy, double pmax) {
   AxisWalk wx = axis_walk(q_ax.periodic, x0, dx, q_ax.extent, pmax);

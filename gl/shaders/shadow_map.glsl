@@ -1,4 +1,4 @@
-// Twin of shaders_cpp/shadow_map.h: shadow-map lookups. Williams, "Casting Curved Shadows on
+// Twin of shaders_cpp/shadow_lookup.h: shadow-map lookups. Williams, "Casting Curved Shadows on
 // Curved Surfaces", SIGGRAPH 1978 (depth from the light, then a depth comparison per receiver);
 // percentage-closer filtering after Reeves, Salesin and Cook, "Rendering Antialiased Shadows with
 // Depth Maps", SIGGRAPH 1987, with bilinear tap weights; the receiver's depth at each tap follows

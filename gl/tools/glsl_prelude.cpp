@@ -22,7 +22,7 @@
 #include "gl/gl_layout_internal.h"
 #include "gl/height_field.h"
 #include "plugins/registry.h"
-#include "shaders_cpp/shadow_map.h"
+#include "shaders_cpp/shadow_lookup.h"
 #include "shaders_cpp/uniforms.h"
 
 namespace {
@@ -154,7 +154,7 @@ int main(int argc, char** argv) {
       {nullptr, "kTrianglePlanesBinding", L::kTrianglePlanesBinding, nullptr},
       {nullptr, "kTriangleHeader", L::kTriangleHeader, nullptr},
       {nullptr, "kShadowViewHeader", L::kShadowViewHeader, nullptr},
-      {nullptr, "kMaxShadowFaces", relief::kMaxShadowFaces, "shaders_cpp/shadow_map.h"},
+      {nullptr, "kMaxShadowFaces", relief::kMaxShadowFaces, "shaders_cpp/shadow_lookup.h"},
       {nullptr, "kMaxFieldLevels", relief::gl::kMaxFieldLevels, "gl/height_field.h"},
       {nullptr, "kCounterSlots", L::kCounterSlots, nullptr},
       {nullptr, "kCounterFragments", L::kCounterFragments, nullptr},

@@ -7,7 +7,7 @@
 
 #include <gtest/gtest.h>
 
-#include "bake/dual_depth.h"
+#include "bake/dual_depth_maps.h"
 #include "builtin/builtin_curved.h"
 #include "scene/gltf.h"
 #include "scene/image_io.h"

@@ -1,5 +1,5 @@
-// gl/height_field.h: the max-mip packed for the exact twin holds the field shaders_cpp/exact.h's
-// HeightField is built from, and each node bounds what lies under it.
+// gl/height_field.h: the max-mip packed for the exact twin holds the field
+// shaders_cpp/exact_trace.h's HeightField is built from, and each node bounds what lies under it.
 #include "gl/height_field.h"
 
 #include <algorithm>
@@ -7,7 +7,7 @@
 
 #include <gtest/gtest.h>
 
-#include "shaders_cpp/exact.h"
+#include "shaders_cpp/exact_trace.h"
 
 namespace relief::gl {
 namespace {

@@ -17,7 +17,7 @@
 #include "gl/height_field.h"
 #include "gl/shader.h"
 #include "plugins/registry.h"
-#include "shaders_cpp/shadow_map.h"
+#include "shaders_cpp/shadow_lookup.h"
 
 namespace relief::gl {
 namespace {

@@ -9,7 +9,7 @@
 #include <cmath>
 #include <cstdio>
 
-#include "bake/dual_depth.h"
+#include "bake/dual_depth_maps.h"
 #include "builtin/builtin.h"
 #include "builtin/builtin_curved.h"
 #include "tests/render/coverage.h"

@@ -1,4 +1,4 @@
-// Shadow maps with relief depth (render/shadow_map.h, shaders_cpp/shadow_map.h): relief casts
+// Shadow maps with relief depth (render/shadow_map.h, shaders_cpp/shadow_lookup.h): relief casts
 // shadows onto other objects and receives theirs (quadric paper, figure 13), no acne with the
 // default bias, and the shadowed room is bit-identical for any thread count.
 #include <gtest/gtest.h>

@@ -22,7 +22,7 @@
 #include "plugins/registry.h"
 #include "render/depth_fixture.h"
 #include "render/render.h"
-#include "shaders_cpp/exact.h"
+#include "shaders_cpp/exact_trace.h"
 #include "shaders_cpp/miss_analysis.h"
 #include "sweep/sweep.h"
 #include "tests/render/cpu_frame.h"

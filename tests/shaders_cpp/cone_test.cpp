@@ -18,7 +18,7 @@
 #include "builtin/builtin.h"
 #include "field_fixture.h"
 #include "sanitized.h"
-#include "shaders_cpp/exact.h"
+#include "shaders_cpp/exact_trace.h"
 #include "shaders_cpp/ray.h"
 #include "shaders_cpp/shadow.h"
 

@@ -1,5 +1,6 @@
-// The exact reference (shaders_cpp/exact.h) against closed-form intersections and dense marches.
-#include "shaders_cpp/exact.h"
+// The exact reference (shaders_cpp/exact_trace.h) against closed-form intersections and dense
+// marches.
+#include "shaders_cpp/exact_trace.h"
 
 #include <gtest/gtest.h>
 

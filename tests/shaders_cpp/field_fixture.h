@@ -10,7 +10,7 @@
 
 #include "bake/cone_map.h"
 #include "rasterizer/texture.h"
-#include "shaders_cpp/exact.h"
+#include "shaders_cpp/exact_trace.h"
 
 namespace relief::testing {
 

@@ -2,13 +2,13 @@
 // the first crossing of a ray with the height field, for tests that separate a search's misses
 // of thin structures from its refinement error (Policarpo, Oliveira and Comba 2005, section 3:
 // the linear search "may miss" features thinner than a step; relaxed cone stepping, figure
-// 18-1a). The exact first hit (shaders_cpp/exact.h) enters the surface at depth `enter`; the ray
-// stays inside (D <= t) up to `exit`, found by marching on in depth steps of 1e-6.
+// 18-1a). The exact first hit (shaders_cpp/exact_trace.h) enters the surface at depth `enter`; the
+// ray stays inside (D <= t) up to `exit`, found by marching on in depth steps of 1e-6.
 #pragma once
 
 #include <cmath>
 
-#include "shaders_cpp/exact.h"
+#include "shaders_cpp/exact_trace.h"
 
 namespace relief::testing {
 

@@ -1,5 +1,5 @@
 // The `pattern` depth map (builtin/builtin.h make_pattern_depth) as a height field: it has the
-// one-texel walls it promises, and the exact reference (shaders_cpp/exact.h, Tevs et al. 2008
+// one-texel walls it promises, and the exact reference (shaders_cpp/exact_trace.h, Tevs et al. 2008
 // max-mip traversal) never reports a hit later than a dense brute-force march on it.
 #include <gtest/gtest.h>
 
@@ -8,7 +8,7 @@
 
 #include "builtin/builtin.h"
 #include "field_fixture.h"
-#include "shaders_cpp/exact.h"
+#include "shaders_cpp/exact_trace.h"
 
 namespace relief {
 namespace {

@@ -1,5 +1,5 @@
 // The approximate searches of shaders_cpp/search.h: exact cases, counters, and convergence towards
-// the exact reference (shaders_cpp/exact.h) as the step count grows.
+// the exact reference (shaders_cpp/exact_trace.h) as the step count grows.
 #include "shaders_cpp/search.h"
 
 #include <gtest/gtest.h>
@@ -10,7 +10,7 @@
 
 #include "field_fixture.h"
 #include "miss_analysis.h"
-#include "shaders_cpp/exact.h"
+#include "shaders_cpp/exact_trace.h"
 #include "shaders_cpp/ray.h"
 
 namespace relief {

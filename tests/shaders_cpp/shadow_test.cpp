@@ -6,7 +6,7 @@
 #include <cmath>
 
 #include "field_fixture.h"
-#include "shaders_cpp/exact.h"
+#include "shaders_cpp/exact_trace.h"
 #include "shaders_cpp/ray.h"
 
 namespace relief {

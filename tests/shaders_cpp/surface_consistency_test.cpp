@@ -20,7 +20,7 @@
 #include "field_fixture.h"
 #include "sanitized.h"
 #include "shaders_cpp/cone.h"
-#include "shaders_cpp/exact.h"
+#include "shaders_cpp/exact_trace.h"
 #include "shaders_cpp/quadric.h"
 #include "shaders_cpp/search.h"
 

@@ -15,7 +15,7 @@
 #include "builtin/builtin.h"
 #include "plugins/registry.h"
 #include "render/render.h"
-#include "shaders_cpp/exact.h"
+#include "shaders_cpp/exact_trace.h"
 #include "sweep/sweep.h"
 #include "tests/render/cpu_frame.h"
 

@@ -83,7 +83,7 @@ class HeightField {
   struct Line {
     double x0, dx, y0, dy;  // cell-space position at parameter p: (x0 + dx p, y0 + dy p)
   };
-  struct Query;  // traversal state (exact.cpp)
+  struct Query;  // traversal state (exact_trace.cpp)
 
   const Axis& axis_(int axis) const { return axis == 0 ? ax_ : ay_; }
   float texel(int i, int j) const { return tex_[static_cast<size_t>(j) * ax_.period + i]; }

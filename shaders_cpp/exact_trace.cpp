@@ -1,7 +1,7 @@
 // Exact ray / bilinear height-field intersection by max-mip traversal: Tevs, Ihrke and Seidel,
 // "Maximum Mipmaps for Fast, Accurate, and Scalable Dynamic Height Field Rendering", I3D 2008.
-// Contracts in shaders_cpp/exact.h.
-#include "shaders_cpp/exact.h"
+// Contracts in shaders_cpp/exact_trace.h.
+#include "shaders_cpp/exact_trace.h"
 
 #include <algorithm>
 #include <cmath>

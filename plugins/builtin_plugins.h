@@ -2,8 +2,9 @@
 // in namespace relief, before defining it:
 //   RELIEF_BUILTIN_PLUGIN(kNamePlugin);
 //   const PluginDescriptor kNamePlugin = {...};
-// The build collects the markers (cmake/builtin_plugins.cmake) into the list plugins/builtin.cpp
-// registers, so a new technique edits no list (docs/plugins.md, "Adding a built-in technique").
+// The build collects the markers (cmake/builtin_plugins.cmake) into the list
+// plugins/builtin_plugins.cpp registers, so a new technique edits no list (docs/plugins.md, "Adding
+// a built-in technique").
 #pragma once
 
 #include "plugins/plugin.h"

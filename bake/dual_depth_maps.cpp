@@ -2,7 +2,7 @@
 // section 3.1): two orthographic passes along -z with the GREATER depth test, the first keeping the
 // nearest surface, the second (depth mirrored) the farthest; the shader writes the interpolated
 // normal as colour.
-#include "bake/dual_depth.h"
+#include "bake/dual_depth_maps.h"
 
 #include <algorithm>
 #include <cmath>

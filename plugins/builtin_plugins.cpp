@@ -1,6 +1,6 @@
 // Registers the built-in plugins: the list is generated from the RELIEF_BUILTIN_PLUGIN markers in
-// plugins/*.cpp (plugins/builtin.h, cmake/builtin_plugins.cmake).
-#include "plugins/builtin.h"
+// plugins/*.cpp (plugins/builtin_plugins.h, cmake/builtin_plugins.cmake).
+#include "plugins/builtin_plugins.h"
 #include "plugins/registry.h"
 
 namespace relief {
