@@ -16,6 +16,7 @@ packages=(
   clang-format-14  # ctest format.SourcesMatchClangFormat (scripts/check-format.sh)
   chromium  # headless check of the `relief bench --report` page (tests/apps)
   slurmctld slurmd slurm-client munge  # scripts/slurm-test.sh: a one-node Slurm cluster
+  python3  # scripts/architecture-graph.sh, scripts/check-function-length.sh
   dpkg-dev file  # `make package` (CPack's DEB generator runs dpkg-shlibdeps on the binary)
 )
 if [ "${RELIEF_EXTRA_PACKAGES:-}" != "" ]; then
