@@ -250,7 +250,7 @@ struct ReliefKernel {
     const TextureDepth depth =
         samples_depth_map<Search>()
             ? material_depth(m, in, search_lod_of<Search>().param, search_lod_of<Search>().slot)
-            : TextureDepth{m.textures[kDepthSlot], &m.samplers[kDepthSlot]};
+            : TextureDepth{m.textures[kDepthSlot], &m.samplers[kDepthSlot], {}, {}};
     SearchHit<F> hit{in.uv, F(0.0f), F(0.0f), F(0.0f)};
     if (depth.texture) hit = Search::search(ctx, in, depth, V, ds, active);
     const V3<F> pos = record_hit(in, view, depth_scale, hit, o);

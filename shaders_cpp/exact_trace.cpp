@@ -247,7 +247,10 @@ bool HeightField::visit_node(Query& q, int level, int i, int j, double pa, doubl
       if (!clip_slab(q.line.y0, q.line.dy, y0, y1, ca, cb)) continue;
       kids[n++] = {ci, cj, ca, cb};
     }
-  std::sort(kids, kids + n, [](const Child& a, const Child& b) { return a.pa < b.pa; });
+  // By entry parameter: an insertion sort (at most four children; ties keep their order, as
+  // std::sort's insertion sort of so few did), which GCC 12's -Warray-bounds reads right.
+  for (int a = 1; a < n; ++a)
+    for (int b = a; b > 0 && kids[b].pa < kids[b - 1].pa; --b) std::swap(kids[b], kids[b - 1]);
   for (int k = 0; k < n; ++k)
     if (visit_node(q, level - 1, kids[k].i, kids[k].j, kids[k].pa, kids[k].pb)) return true;
   return false;

@@ -188,7 +188,7 @@ inline void bisect(F& lo, F& hi, mask_t<F> refine, int m, float fetches_per_step
       hi = select(refine & in, mid, hi);
       lo = select(refine & !in, mid, lo);
       const F mid2 = select(in, mid_lo, mid_hi);
-      const mask_t<F> in2 = (in & in_lo) | (!in & in_hi);
+      const mask_t<F> in2 = (in & in_lo) | ((!in) & in_hi);
       hi = select(refine & in2, mid2, hi);
       lo = select(refine & !in2, mid2, lo);
       steps += per_lane + per_lane;
