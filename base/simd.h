@@ -14,7 +14,7 @@
 // kAvx2 eight lanes in one register, kAvx512 Highway's AVX3 target (AVX-512 F/VL/DQ/BW) with
 // sixteen lanes. Every level does the same IEEE operations in the same order per lane and the
 // build sets -ffp-contract=off (no FMA contraction), so all give bit-identical images (tested in
-// tests/rasterizer/simd_test.cpp for every level this CPU runs).
+// tests/frames/simd_test.cpp for every level this CPU runs).
 //
 // The environment variable RELIEF_SIMD=baseline (or sse2), avx2 or avx512 (or avx3) asks for a
 // level at start-up; one the CPU lacks falls back to the best it has below it.

@@ -68,7 +68,7 @@ inline constexpr ParamSpec kConeBinaryStepsSpec = {
     "halvings of [last outside, first inside sample] (chapter: 6, from H to K)"};
 // 32 fallback steps: with cones valid for the bilinear surface most lanes finish in the march, and
 // the lanes that do not are the ones the fallback's coarse samples sent through thin walls. On
-// 4000 random rays (tests/shaders_cpp/cone_test.cpp fields) relaxed 15 + k + 6 at k = 8 / 32:
+// 4000 random rays (tests/builtin/cone_test.cpp fields) relaxed 15 + k + 6 at k = 8 / 32:
 // mean error 0.644 / 0.347 texel on pattern, 0.140 / 0.077 on thin walls, for 38.5 / 40.4 and
 // 38.9 / 41.2 fetches a ray.
 inline constexpr ParamSpec kConeFallbackStepsSpec = {

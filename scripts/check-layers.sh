@@ -7,6 +7,10 @@
 # (a folder may include any folder listed as below it here). Exceptions are listed file by file
 # with the work that removes them; a new one is a design change, not a quick fix. File names are
 # unique across the library folders.
+# The compiler enforces the same table through per-library include roots and link lists
+# (CMakeLists.txt, ctest layers.*); this check stays for what those cannot say: single headers
+# from a layer otherwise out of sight (allowed_headers) and the exceptions, which today widen
+# relief_scene's links, and it names the file and the rule in one line before anything compiles.
 # Usage: check-layers.sh [REPO_DIR]; check-layers.sh --self-test (a tree with a kernel header that
 # includes render/, then one with two shadow_map.h: the check must refuse both).
 set -euo pipefail

@@ -1,11 +1,11 @@
 #!/usr/bin/env bash
 # Sanitizer runs for CI (issue 10), clang-14 (scripts/clang-sanitized.sh): an ASan + UBSan build
-# running every test but the GL backend's (test_gl: Mesa's llvmpipe is not instrumented and its
-# JIT under ASan is the slow part) and the installed-package test; and a ThreadSanitizer build
-# running all of test_rasterizer and test_render (the thread pool, tiles, determinism across
-# thread counts and tile sizes, recycled frames, shadow passes). The ASan folder is configured
-# with fuzzer-no-link too, so scripts/ci-fuzz.sh build-ci-asan reuses its libraries. Any report
-# fails the run (halt_on_error). Each step prints its wall time.
+# running every test but the GL backend's (test_gl and test_gl_frames: Mesa's llvmpipe is not
+# instrumented and its JIT under ASan is the slow part) and the installed-package test; and a
+# ThreadSanitizer build running all of test_rasterizer, test_render and test_frames (the thread
+# pool, tiles, determinism across thread counts and tile sizes, recycled frames, shadow passes).
+# The ASan folder is configured with fuzzer-no-link too, so scripts/ci-fuzz.sh build-ci-asan reuses
+# its libraries. Any report fails the run (halt_on_error). Each step prints its wall time.
 # Usage: scripts/ci-sanitizers.sh [asan|tsan|all]   (build folders build-ci-asan, build-ci-tsan)
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -26,8 +26,8 @@ if [[ $WHAT == asan || $WHAT == all ]]; then
   B=$PREFIX-asan
   step "asan configure" configure_sanitized "$B" fuzzer-no-link,address,undefined
   step "asan build" cmake --build "$B" -j "$JOBS" --target relief relief_test_plugin \
-    test_rasterizer test_shaders_cpp test_plugins test_scene test_render test_bake test_apps \
-    test_sweep
+    test_rasterizer test_shaders_cpp test_plugins test_bake test_scene test_builtin test_render \
+    test_frames test_sweep test_apps
   export ASAN_OPTIONS=detect_leaks=1:abort_on_error=1:strict_string_checks=1
   # OpenImageIO 2.4 loses the string its ImageInput::geterror assigns (tests/fuzz/lsan.supp says
   # why); the tests reach it now that image errors come from the ImageInput, as the fuzz targets do.
@@ -40,7 +40,8 @@ fi
 if [[ $WHAT == tsan || $WHAT == all ]]; then
   B=$PREFIX-tsan
   step "tsan configure" configure_sanitized "$B" thread
-  step "tsan build" cmake --build "$B" -j "$JOBS" --target relief test_rasterizer test_render
+  step "tsan build" cmake --build "$B" -j "$JOBS" --target relief test_rasterizer test_render \
+    test_frames
   export TSAN_OPTIONS=halt_on_error=1:second_deadlock_stack=1
   step "tsan tests" ctest --test-dir "$B" -j "$JOBS" --output-on-failure -E '_NOT_BUILT'
   unset TSAN_OPTIONS

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Optional: the Khronos glTF validator (npm gltf-validator) for
-# KhronosValidator.EveryExportHasNoErrorAndNoWarning (tests/scene/gltf_validator_test.cpp), which
+# KhronosValidator.EveryExportHasNoErrorAndNoWarning (tests/builtin/gltf_validator_test.cpp), which
 # is skipped without it. Installs under /opt/gltf-validator (or $1). Never fails the caller: with
 # no node, npm or network it says so and exits 0.
 set -uo pipefail

@@ -5,7 +5,7 @@
 // the enclosing namespace). mask_t<F> is the matching predicate type (bool or MV<N>). Every
 // operation here is a plain IEEE operation done lane by lane in the same order for every type, and
 // the build disables FP contraction, so all instantiations agree bit for bit (tested in
-// tests/shaders_cpp and, per SIMD target, tests/rasterizer/simd_test.cpp).
+// tests/shaders_cpp and, per SIMD target, tests/frames/simd_test.cpp).
 //
 // Per-target header (base/simd.h): it has no include guard of its own but Highway's toggle, so
 // that a translation unit built with hwy/foreach_target.h compiles it once per target, inside
@@ -215,7 +215,7 @@ inline IV<N> operator>>(IV<N> a, IV<N> n) {
 // the end of the translation unit, after the region has closed; a class template it first meets
 // there is laid out for the baseline target, and a function returning it then disagrees with its
 // callers about where the value is (GCC 12: a vzeroupper before `ret` wiped the upper lanes of a
-// returned mask; tests/rasterizer/simd_test.cpp caught it on relief_dual). A class that holds one
+// returned mask; tests/frames/simd_test.cpp caught it on relief_dual). A class that holds one
 // lane value and nothing else must be instantiated here the same way.
 static_assert(sizeof(FV<8>) == 32 && sizeof(IV<8>) == 32 && sizeof(MV<8>) == 32);
 static_assert(sizeof(FV<16>) == 64 && sizeof(IV<16>) == 64 && sizeof(MV<16>) == 64);

@@ -63,7 +63,7 @@ Result<Texture> make_generated_depth(const std::string& name, int size) {
   std::vector<float> d(static_cast<size_t>(n) * n, 1.0f);
   auto at = [&](int i, int j) -> float& { return d[static_cast<size_t>(j) * n + i]; };
   if (name == "thin") {
-    // tests/shaders_cpp/field_fixture.h thin_walls on a depth-1 floor: walls every 8 texels,
+    // tests/bake/field_fixture.h thin_walls on a depth-1 floor: walls every 8 texels,
     // 3 % of the floor texels one-texel pillars reaching 0 to 0.1
     for (int j = 0; j < n; ++j)
       for (int i = 0; i < n; ++i) {

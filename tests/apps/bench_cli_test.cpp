@@ -19,7 +19,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "apps/cli_run.h"
+#include "tests/apps/cli_run.h"
 
 namespace {
 

@@ -4,7 +4,7 @@
 #include <filesystem>
 #include <string>
 
-#include "apps/cli_run.h"
+#include "tests/apps/cli_run.h"
 
 namespace {
 

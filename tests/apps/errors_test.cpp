@@ -8,8 +8,8 @@
 #include <fstream>
 #include <string>
 
-#include "../scene/png_header.h"
-#include "cli_run.h"
+#include "tests/apps/cli_run.h"
+#include "tests/scene/png_header.h"
 
 namespace {
 

@@ -18,8 +18,8 @@
 
 #include <nlohmann/json.hpp>
 
-#include "apps/cli_run.h"
 #include "scene/image_io.h"
+#include "tests/apps/cli_run.h"
 #include "tests/test_dir.h"
 
 namespace {

@@ -13,8 +13,8 @@
 
 #include <glm/vec3.hpp>
 
-#include "apps/cli_run.h"
 #include "scene/image_io.h"
+#include "tests/apps/cli_run.h"
 
 namespace relief::cli {
 namespace {

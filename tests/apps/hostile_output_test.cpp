@@ -26,13 +26,13 @@
 
 #include <gtest/gtest.h>
 
-#include "apps/cli_run.h"
 #include "apps/output.h"
 #include "apps/scene_source.h"
 #include "rasterizer/output_file.h"
 #include "scene/gltf.h"
 #include "scene/image_io.h"
 #include "scene/scene.h"
+#include "tests/apps/cli_run.h"
 
 extern char** environ;
 

@@ -12,8 +12,8 @@
 
 #include <nlohmann/json.hpp>
 
-#include "apps/cli_run.h"
-#include "gl_test_util.h"
+#include "tests/apps/cli_run.h"
+#include "tests/gl/gl_test_util.h"
 
 namespace {
 

@@ -4,7 +4,7 @@
 #include <gtest/gtest.h>
 
 #include "gl/gl_backend.h"
-#include "gl_test_util.h"
+#include "tests/gl/gl_test_util.h"
 
 namespace relief::gl {
 namespace {

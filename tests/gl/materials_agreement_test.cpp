@@ -8,12 +8,12 @@
 #include <gtest/gtest.h>
 
 #include "gl/gl_backend.h"
-#include "gl_test_util.h"
-#include "materials_fixture.h"
 #include "render/compare.h"
 #include "render/render.h"
 #include "scene/gltf.h"
-#include "test_dir.h"
+#include "tests/gl/gl_test_util.h"
+#include "tests/materials_fixture.h"
+#include "tests/test_dir.h"
 
 namespace relief {
 namespace {

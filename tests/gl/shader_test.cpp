@@ -7,8 +7,8 @@
 
 #include "gl/embedded_shaders.h"
 #include "gl/gl_backend.h"
-#include "gl_test_util.h"
 #include "plugins/registry.h"
+#include "tests/gl/gl_test_util.h"
 
 namespace relief::gl {
 namespace {

@@ -10,9 +10,9 @@
 #include <memory>
 #include <vector>
 
-#include "packet_fixture.h"
 #include "plugins/plugin.h"
 #include "plugins/registry.h"
+#include "tests/plugins/packet_fixture.h"
 
 namespace relief {
 
@@ -80,7 +80,7 @@ struct Scene {
 };
 
 // The registered plugins whose one required texture is `depth` (plugins that need more derived
-// maps are covered on rendered scenes by tests/render/techniques_render_test.cpp).
+// maps are covered on rendered scenes by tests/sweep/techniques_render_test.cpp).
 std::vector<const PluginDescriptor*> relief_plugins() {
   std::vector<const PluginDescriptor*> out;
   for (const PluginDescriptor* p : PluginRegistry::global().all()) {

@@ -7,10 +7,10 @@
 #include <gtest/gtest.h>
 #include <glm/geometric.hpp>
 
-#include "materials_fixture.h"
 #include "render/render.h"
 #include "scene/gltf.h"
-#include "test_dir.h"
+#include "tests/materials_fixture.h"
+#include "tests/test_dir.h"
 
 namespace relief {
 namespace {

@@ -6,8 +6,8 @@
 #include <filesystem>
 #include <string>
 
-#include "png_header.h"
 #include "scene/image_io.h"
+#include "tests/scene/png_header.h"
 #include "tests/test_dir.h"
 
 namespace relief {

@@ -8,8 +8,8 @@
 #include <random>
 #include <vector>
 
-#include "float_bits.h"
 #include "shaders_cpp/lanes.h"
+#include "tests/shaders_cpp/float_bits.h"
 
 namespace relief {
 namespace {

@@ -9,9 +9,9 @@
 #include <random>
 #include <vector>
 
-#include "float_bits.h"
 #include "shaders_cpp/sampling.h"
 #include "shaders_cpp/sampling_simd.h"
+#include "tests/shaders_cpp/float_bits.h"
 
 namespace relief {
 namespace {

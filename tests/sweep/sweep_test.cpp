@@ -17,7 +17,7 @@
 #include "render/render.h"
 #include "shaders_cpp/exact_trace.h"
 #include "sweep/sweep.h"
-#include "tests/render/cpu_frame.h"
+#include "tests/frames/cpu_frame.h"
 
 namespace relief::sweep {
 namespace {

@@ -13,7 +13,7 @@
 #include "builtin/builtin_bending.h"
 #include "render/render.h"
 #include "scene/mesh_prep.h"
-#include "tests/render/cpu_frame.h"
+#include "tests/frames/cpu_frame.h"
 
 namespace relief {
 namespace {

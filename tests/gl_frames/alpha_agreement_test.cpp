@@ -13,10 +13,10 @@
 
 #include "builtin/builtin_room.h"
 #include "gl/gl_backend.h"
-#include "gl_test_util.h"
 #include "render/compare.h"
 #include "render/render.h"
 #include "scene/mesh_prep.h"
+#include "tests/gl/gl_test_util.h"
 
 namespace relief {
 namespace {

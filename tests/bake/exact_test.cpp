@@ -9,7 +9,7 @@
 #include <random>
 #include <vector>
 
-#include "field_fixture.h"
+#include "tests/bake/field_fixture.h"
 
 namespace relief {
 namespace {

@@ -14,7 +14,7 @@
 
 #include "builtin/builtin.h"
 #include "render/render.h"
-#include "tests/render/cpu_frame.h"
+#include "tests/frames/cpu_frame.h"
 
 namespace relief {
 namespace {

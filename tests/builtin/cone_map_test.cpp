@@ -11,7 +11,7 @@
 #include <gtest/gtest.h>
 
 #include "builtin/builtin.h"
-#include "sanitized.h"
+#include "tests/sanitized.h"
 
 namespace relief {
 namespace {

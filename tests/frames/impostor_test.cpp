@@ -12,7 +12,7 @@
 #include "bake/dual_depth_maps.h"
 #include "builtin/builtin.h"
 #include "builtin/builtin_curved.h"
-#include "tests/render/coverage.h"
+#include "tests/frames/coverage.h"
 
 namespace relief {
 namespace {

@@ -20,12 +20,12 @@
 
 #include "builtin/builtin.h"
 #include "plugins/registry.h"
-#include "render/depth_fixture.h"
 #include "render/render.h"
 #include "shaders_cpp/exact_trace.h"
-#include "shaders_cpp/miss_analysis.h"
 #include "sweep/sweep.h"
-#include "tests/render/cpu_frame.h"
+#include "tests/bake/miss_analysis.h"
+#include "tests/frames/cpu_frame.h"
+#include "tests/frames/depth_fixture.h"
 
 namespace relief {
 namespace {
@@ -210,7 +210,7 @@ TEST(TechniqueRender, SearchesConvergeToExactOnRenderedScenes) {
 
 // Relief 64 + 8 on the rendered scenes (level-0 depth): every pixel more than 0.05 texel from
 // exact is a ray whose first crossing holds no linear sample (a thin-wall tip or a grazing
-// touch, stepped over: tests/shaders_cpp/miss_analysis.h), and over the other pixels the mean
+// touch, stepped over: tests/bake/miss_analysis.h), and over the other pixels the mean
 // error is within the 0.05 texel target. Both means are recorded.
 TEST(TechniqueRender, ReliefMissesAreSteppedOverCrossings) {
   for (const char* name : kScenes) {

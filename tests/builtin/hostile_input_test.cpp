@@ -17,10 +17,10 @@
 #include <nlohmann/json.hpp>
 
 #include "builtin/builtin.h"
-#include "png_header.h"
 #include "rasterizer/safe_file.h"
 #include "scene/gltf.h"
 #include "scene/image_io.h"
+#include "tests/scene/png_header.h"
 #include "tests/test_dir.h"
 
 namespace relief {

@@ -18,11 +18,11 @@
 
 #include "bake/cone_map.h"
 #include "builtin/builtin.h"
-#include "packet_fixture.h"
 #include "plugins/plugin.h"
 #include "plugins/registry.h"
 #include "render/derived_maps.h"
 #include "render/render.h"
+#include "tests/plugins/packet_fixture.h"
 #include "tests/test_dir.h"
 
 namespace relief {

@@ -7,8 +7,8 @@
 #include <random>
 
 #include "builtin/builtin.h"
-#include "field_fixture.h"
 #include "shaders_cpp/exact_trace.h"
+#include "tests/bake/field_fixture.h"
 
 namespace relief {
 namespace {

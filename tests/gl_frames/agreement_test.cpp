@@ -28,9 +28,9 @@
 
 #include "builtin/builtin.h"
 #include "gl/gl_backend.h"
-#include "gl_test_util.h"
 #include "plugins/registry.h"
 #include "render/compare.h"
+#include "tests/gl/gl_test_util.h"
 
 namespace relief {
 namespace {

@@ -8,10 +8,10 @@
 #include <random>
 #include <vector>
 
-#include "field_fixture.h"
-#include "miss_analysis.h"
 #include "shaders_cpp/exact_trace.h"
 #include "shaders_cpp/ray.h"
+#include "tests/bake/field_fixture.h"
+#include "tests/bake/miss_analysis.h"
 
 namespace relief {
 namespace {

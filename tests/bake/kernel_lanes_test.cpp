@@ -7,11 +7,11 @@
 #include <cstring>
 #include <random>
 
-#include "field_fixture.h"
 #include "shaders_cpp/exact_trace.h"
 #include "shaders_cpp/ray.h"
 #include "shaders_cpp/search.h"
 #include "shaders_cpp/shadow.h"
+#include "tests/bake/field_fixture.h"
 
 namespace relief {
 namespace {

@@ -6,8 +6,8 @@
 #include <vector>
 
 #include "builtin/builtin.h"
-#include "render/depth_fixture.h"
 #include "render/render.h"
+#include "tests/frames/depth_fixture.h"
 
 namespace relief {
 namespace {

@@ -17,12 +17,12 @@
 
 #include "bake/cone_map.h"
 #include "builtin/builtin.h"
-#include "field_fixture.h"
-#include "sanitized.h"
 #include "shaders_cpp/cone.h"
 #include "shaders_cpp/exact_trace.h"
 #include "shaders_cpp/quadric.h"
 #include "shaders_cpp/search.h"
+#include "tests/bake/field_fixture.h"
+#include "tests/sanitized.h"
 
 namespace relief {
 namespace {

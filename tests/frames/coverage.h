@@ -1,5 +1,5 @@
 // Coverage masks of rendered frames and their comparison near the outline, shared by the
-// silhouette tests (tests/render/silhouette_test.cpp, impostor_test.cpp).
+// silhouette tests (tests/frames/silhouette_test.cpp, impostor_test.cpp).
 #pragma once
 
 #include <algorithm>
@@ -11,7 +11,7 @@
 #include <gtest/gtest.h>
 
 #include "render/render.h"
-#include "tests/render/cpu_frame.h"
+#include "tests/frames/cpu_frame.h"
 
 namespace relief::test {
 

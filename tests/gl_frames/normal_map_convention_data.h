@@ -1,5 +1,5 @@
-// Reference data for tests/gl/normal_map_convention_test.cpp: the MikkTSpace tangents of the test's
-// sphere as a glTF exporter writes them. From mikktspace.c of github.com/mmikk/MikkTSpace at
+// Reference data for tests/gl_frames/normal_map_convention_test.cpp: the MikkTSpace tangents of the
+// test's sphere as a glTF exporter writes them. From mikktspace.c of github.com/mmikk/MikkTSpace at
 // commit 3e895b49d05ea07e4c2133156cfa94369e19e409, built outside this repository with the driver
 // described in tests/scene/mikktspace_test_data.h, run on the mesh below as this build makes it
 // (positions, normals and uv printed with %.9g); every corner of a vertex had the same tangent.

@@ -15,7 +15,7 @@
 #include "builtin/builtin.h"
 #include "builtin/builtin_curved.h"
 #include "rasterizer/texture.h"
-#include "tests/render/coverage.h"
+#include "tests/frames/coverage.h"
 
 namespace relief {
 namespace {

@@ -5,9 +5,9 @@
 #include <cmath>
 #include <random>
 
-#include "field_fixture.h"
 #include "shaders_cpp/exact_trace.h"
 #include "shaders_cpp/search.h"
+#include "tests/bake/field_fixture.h"
 
 namespace relief {
 namespace {

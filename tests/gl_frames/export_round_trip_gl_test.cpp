@@ -9,9 +9,9 @@
 
 #include "builtin/builtin.h"
 #include "gl/gl_backend.h"
-#include "gl_test_util.h"
 #include "render/render.h"
 #include "scene/gltf.h"
+#include "tests/gl/gl_test_util.h"
 #include "tests/test_dir.h"
 
 namespace relief {

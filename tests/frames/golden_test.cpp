@@ -1,6 +1,6 @@
 // Golden images: every built-in scene x every registered technique (and each scene with its own
 // techniques), rendered on the CPU backend at 128x96, hashed (64-bit FNV-1a of the colour and
-// depth planes) and compared with tests/render/golden_images.txt. A refactoring that must not
+// depth planes) and compared with tests/frames/golden_images.txt. A refactoring that must not
 // change output (issue 25: structure, not images) keeps every line; a change that means to alter
 // images says so in its commit and rewrites the file with
 //   RELIEF_UPDATE_GOLDEN=1 build/bin/test_render --gtest_filter='Golden.*'
@@ -32,7 +32,7 @@ constexpr bool kGoldenCompiler = false;
 #endif
 
 const char* golden_path() {
-  return RELIEF_SOURCE_DIR "/tests/render/golden_images.txt";
+  return RELIEF_SOURCE_DIR "/tests/frames/golden_images.txt";
 }
 
 uint64_t fnv1a(uint64_t h, const void* data, size_t n) {
@@ -97,7 +97,7 @@ TEST(Golden, EveryBuiltinSceneAndTechniqueRendersItsRecordedImage) {
   }
   if (update) {
     std::ofstream out(golden_path());
-    out << "# scene technique hash (tests/render/golden_test.cpp; '-' = the scene's own "
+    out << "# scene technique hash (tests/frames/golden_test.cpp; '-' = the scene's own "
            "techniques)\n";
     for (const auto& [key, hash] : now) out << key << " " << hash << "\n";
     std::printf("[ golden   ] wrote %zu hashes to %s\n", now.size(), golden_path());

@@ -5,9 +5,9 @@
 
 #include <cmath>
 
-#include "field_fixture.h"
 #include "shaders_cpp/exact_trace.h"
 #include "shaders_cpp/ray.h"
+#include "tests/bake/field_fixture.h"
 
 namespace relief {
 namespace {

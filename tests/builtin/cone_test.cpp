@@ -16,11 +16,11 @@
 
 #include "bake/cone_map.h"
 #include "builtin/builtin.h"
-#include "field_fixture.h"
-#include "sanitized.h"
 #include "shaders_cpp/exact_trace.h"
 #include "shaders_cpp/ray.h"
 #include "shaders_cpp/shadow.h"
+#include "tests/bake/field_fixture.h"
+#include "tests/sanitized.h"
 
 namespace relief {
 namespace {

@@ -5,8 +5,8 @@
 //   (normal_map_from_depth); the DirectX one does the opposite;
 // - a normal-mapped sphere without TANGENT renders like the same file with MikkTSpace tangents in
 //   the file's (glTF) convention: PSNR >= 45 dB. The file's tangents are the reference
-//   implementation's (tests/gl/normal_map_convention_data.h), written by this test into a buffer
-//   of its own (not through save_gltf, whose w negation would cancel the loader's).
+//   implementation's (tests/gl_frames/normal_map_convention_data.h), written by this test into a
+//   buffer of its own (not through save_gltf, whose w negation would cancel the loader's).
 // Renders are tiny (64 x 64, 96 x 96): CI time.
 #include <algorithm>
 #include <cstring>
@@ -24,12 +24,12 @@
 #include "builtin/builtin_curved.h"
 #include "builtin/builtin_parts.h"
 #include "gl/gl_backend.h"
-#include "gl_test_util.h"
-#include "normal_map_convention_data.h"
 #include "render/compare.h"
 #include "render/render.h"
 #include "scene/gltf.h"
 #include "scene/mesh_prep.h"
+#include "tests/gl/gl_test_util.h"
+#include "tests/gl_frames/normal_map_convention_data.h"
 #include "tests/test_dir.h"
 
 namespace relief {
