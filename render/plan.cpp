@@ -9,7 +9,6 @@
 #include <glm/geometric.hpp>
 #include <glm/trigonometric.hpp>
 
-#include "plugins/registry.h"
 #include "render/derived_maps.h"
 #include "render/render.h"
 #include "render/validate.h"
