@@ -24,6 +24,7 @@
 #include "bake/dual_depth_maps.h"
 #include "rasterizer/output_file.h"
 #include "rasterizer/safe_file.h"
+#include "render/validate.h"
 #include "scene/gltf.h"
 #include "scene/image_io.h"
 
@@ -43,7 +44,7 @@ int run_bake_dual(const std::string& mesh_path, const std::string& prefix, int s
   const auto t0 = std::chrono::steady_clock::now();
   GltfLoadOptions load_options;
   load_options.allow_outside_scene_dir = allow_outside_scene_dir;
-  Result<Scene> scene = load_gltf(mesh_path, load_options);
+  Result<Scene> scene = load_scene(mesh_path, load_options);
   if (!scene.ok()) return fail(scene.status().message(), scene.status().exit_code());
   std::vector<glm::vec3> positions, normals;
   std::vector<uint32_t> indices;

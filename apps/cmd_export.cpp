@@ -4,6 +4,7 @@
 
 #include "apps/commands.h"
 #include "apps/scene_source.h"
+#include "render/derived_maps.h"
 #include "scene/gltf.h"
 
 namespace relief::cli {
@@ -24,6 +25,7 @@ void register_export(CLI::App& app, Action& action) {
     action = [scene, output, allow_outside, strict] {
       Result<Scene> s = load_scene_source(*scene, *allow_outside, *strict);
       if (!s.ok()) return fail(s.status().message(), s.status().exit_code());
+      drop_derivable_normal_maps(*s);  // the file asks for them from depth instead
       Status w = save_gltf(*s, *output);
       if (!w.ok()) return fail(w.message(), w.exit_code());
       std::printf("%s: %s, %zu meshes, %zu materials, %zu lights, %zu cameras\n", output->c_str(),

@@ -11,6 +11,7 @@
 #include "gl/gl_backend.h"
 #include "plugins/registry.h"
 #include "rasterizer/safe_file.h"
+#include "render/validate.h"
 #include "scene/gltf.h"
 
 namespace relief::cli {
@@ -80,7 +81,7 @@ Result<Scene> load_scene_source(const std::string& name, bool allow_outside_scen
   options.ignored = ignored;
   const std::string ext = extension_of(name);
   if (is_scene_path(name) && (ext == ".gltf" || ext == ".glb")) {
-    Result<Scene> s = load_gltf(name, options);
+    Result<Scene> s = load_scene(name, options);
     if (s.ok() && ignored)  // the lines load_gltf prints when it keeps nothing
       for (const GltfIgnored& g : *ignored)
         if (g.warn)

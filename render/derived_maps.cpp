@@ -20,6 +20,8 @@
 #include <vector>
 
 #include "bake/cone_map.h"
+#include "bake/normal_map.h"
+#include "plugins/registry.h"
 #include "rasterizer/output_file.h"
 #include "rasterizer/safe_file.h"
 
@@ -155,6 +157,31 @@ bool periodic(Wrap w) {
   return w != Wrap::kClamp;
 }
 
+// A map kept in the memory cache only (built in milliseconds): the one cached under `key`, else
+// build()'s, cached; its --explain note "<slot>: <what>, ..." says which, with the time since `t0`.
+// `counted`: in DerivedMapCounters (the normal maps are not: --stats and the render summary count
+// the bakes they counted when the glTF loader made the normal maps).
+template <class Build>
+DerivedMap memory_cached(uint64_t key, const std::string& slot, const std::string& what,
+                         std::chrono::steady_clock::time_point t0, bool counted, Build build) {
+  std::lock_guard<std::mutex> lock(g_mutex);
+  if (auto hit = memory_cache().find(key); hit != memory_cache().end()) {
+    if (counted) ++g_counters.memory_hits;
+    return DerivedMap{hit->second, slot + ": " + what + ", derived from depth (memory cache)"};
+  }
+  auto tex = std::make_shared<const Texture>(build());
+  memory_cache()[key] = tex;
+  const double ms =
+      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  if (counted) {
+    ++g_counters.baked;
+    g_counters.bake_ms += ms;
+  }
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.1f", ms);
+  return DerivedMap{tex, slot + ": " + what + ", built from depth in " + buf + " ms"};
+}
+
 // The max-mip chain of the material's depth (Texture::dilate_mips): level 0 as it is, then the
 // min chain with every texel widened to its 3x3 neighbourhood under the material's wrap. Linear
 // in the texel count (a 1024x1024 map takes milliseconds), so it is kept in memory only.
@@ -170,26 +197,88 @@ Result<DerivedMap> derive_max_mip(const Material& m, const Texture& depth) {
   key.bytes(depth.level(0).data.data(), depth.level(0).data.size());
   const std::string what = "max-mip chain " + std::to_string(depth.width(0)) + "x" +
                            std::to_string(depth.height(0)) + " (min depth over each footprint)";
-  std::lock_guard<std::mutex> lock(g_mutex);
-  if (auto hit = memory_cache().find(key.h); hit != memory_cache().end()) {
-    ++g_counters.memory_hits;
-    return DerivedMap{hit->second, std::string(kMaxMipSlotName) + ": " + what +
-                                       ", derived from depth (memory cache)"};
+  return memory_cached(key.h, kMaxMipSlotName, what, t0, true,
+                       [&] { return max_mip_chain(depth, m.sampler.wrap_u, m.sampler.wrap_v); });
+}
+
+// The normal map's bake parameters: the material's depth_scale, else its own technique's
+// default, else 0.05; wrap when both sampler axes repeat.
+float normal_depth_scale(const Material& m) {
+  if (auto it = m.params.find("depth_scale"); it != m.params.end()) return it->second;
+  if (const PluginDescriptor* p = PluginRegistry::global().find(m.technique)) {
+    const int i = param_index(*p, "depth_scale");
+    if (i >= 0) return p->params[i].default_value;
   }
-  auto tex =
-      std::make_shared<const Texture>(max_mip_chain(depth, m.sampler.wrap_u, m.sampler.wrap_v));
-  memory_cache()[key.h] = tex;
-  const double ms =
-      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-  ++g_counters.baked;
-  g_counters.bake_ms += ms;
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.1f", ms);
-  return DerivedMap{
-      tex, std::string(kMaxMipSlotName) + ": " + what + ", built from depth in " + buf + " ms"};
+  return 0.05f;
+}
+bool normal_wraps(const Material& m) {
+  return m.sampler.wrap_u == Wrap::kRepeat && m.sampler.wrap_v == Wrap::kRepeat;
+}
+
+// The normal map of the material's depth (bake/normal_map.h), memory-cached by the depth texels,
+// depth_scale and wrap.
+Result<DerivedMap> derive_normal(const Material& m, const Texture& depth) {
+  const auto t0 = std::chrono::steady_clock::now();
+  const float depth_scale = normal_depth_scale(m);
+  const bool wrap = normal_wraps(m);
+  Hasher key;
+  key.bytes("normal", 6);
+  key.value(static_cast<uint32_t>(depth.format()));
+  key.value(depth_scale);
+  key.value(wrap);
+  key.value(depth.width(0));
+  key.value(depth.height(0));
+  key.bytes(depth.level(0).data.data(), depth.level(0).data.size());
+  char scale[32];
+  std::snprintf(scale, sizeof scale, "%g", static_cast<double>(depth_scale));
+  const std::string what = "normal map " + std::to_string(depth.width(0)) + "x" +
+                           std::to_string(depth.height(0)) + (wrap ? " (wrap" : " (clamp") +
+                           ", depth_scale " + scale + ")";
+  return memory_cached(key.h, "normal", what, t0, false,
+                       [&] { return normal_map_from_depth(depth, depth_scale, wrap); });
+}
+
+const Texture* usable_depth(const Material& m) {
+  auto it = m.textures.find("depth");
+  return it == m.textures.end() || !it->second || it->second->empty() ? nullptr : it->second.get();
+}
+
+bool same_texture(const Texture& a, const Texture& b) {
+  if (a.format() != b.format() || a.levels() != b.levels() || a.color_space() != b.color_space())
+    return false;
+  for (int l = 0; l < a.levels(); ++l)
+    if (a.level(l).data != b.level(l).data) return false;
+  return true;
 }
 
 }  // namespace
+
+bool derives_normal_map(const Material& m, const std::string& slot) {
+  if (slot != "normal" || !m.normal_from_depth || !m.textures.count("depth")) return false;
+  auto it = m.textures.find("normal");
+  return it == m.textures.end() || !it->second;
+}
+
+Result<TexturePtr> derived_normal_map(const Material& m) {
+  Result<DerivedMap> d = derive_map(m, "normal");
+  if (!d.ok()) return d.status();
+  return d->texture;
+}
+
+void drop_derivable_normal_maps(Scene& scene) {
+  for (Material& m : scene.materials) {
+    auto normal = m.textures.find("normal");
+    const Texture* depth = usable_depth(m);
+    if (normal == m.textures.end() || !normal->second || !depth || m.normal_scale != 1.0f ||
+        m.uv_maps.count("normal"))
+      continue;
+    if (!same_texture(*normal->second,
+                      normal_map_from_depth(*depth, normal_depth_scale(m), normal_wraps(m))))
+      continue;
+    m.textures.erase(normal);
+    m.normal_from_depth = true;
+  }
+}
 
 bool is_derived_slot(const std::string& slot) {
   return find_cone_slot(slot) != nullptr || slot == kMaxMipSlotName;
@@ -228,11 +317,11 @@ void clear_derived_map_memory_cache() {
 
 Result<DerivedMap> derive_map(const Material& m, const std::string& slot) {
   const ConeSlot* cs = find_cone_slot(slot);
-  CHECK(cs != nullptr || slot == kMaxMipSlotName);
-  auto it = m.textures.find("depth");
-  if (it == m.textures.end() || !it->second || it->second->empty())
-    return Status::error("'" + slot + "' map: no 'depth' texture to bake it from");
-  const Texture& depth = *it->second;
+  CHECK(cs != nullptr || slot == kMaxMipSlotName || slot == "normal");
+  const Texture* depth_map = usable_depth(m);
+  if (!depth_map) return Status::error("'" + slot + "' map: no 'depth' texture to bake it from");
+  const Texture& depth = *depth_map;
+  if (slot == "normal") return derive_normal(m, depth);
   if (!cs) return derive_max_mip(m, depth);
   ConeBakeOptions o;
   o.kind = cs->kind;

@@ -12,6 +12,13 @@
 //   (rasterizer/texture.h Texture::dilate_mips), what the searches' `lod=max-mip` reads: at any
 //   LOD it never lies below the level-0 surface over the read's footprint. Built in
 //   milliseconds, so cached in memory only.
+//   "normal", for a material that asks for it (Material::normal_from_depth: glTF files unless
+//   they say normal_from_depth false) and has no normal texture: bake/normal_map.h's
+//   normal_map_from_depth of the depth texture, with the material's depth_scale (else the default
+//   of its own technique, Material::technique, whatever --technique says; else 0.05) and wrapping
+//   when both sampler axes repeat (mirror clamps). Cached in memory only, like the max-mips, and
+//   not counted in DerivedMapCounters (--stats counts the bakes it did when the glTF loader made
+//   these maps).
 // A material that supplies a texture under that name is used as it is. Otherwise the map comes
 // from, in order: the process's memory cache; the disk cache; a bake (all cores), which is then
 // stored in both. The caches are keyed by a 64-bit hash of the depth texels, their size, the kind
@@ -37,8 +44,12 @@ struct DerivedMap {
 
 inline constexpr const char* kMaxMipSlotName = "depth_max_mip";
 
-// Whether `slot` names a map derive_map() can make.
+// Whether `slot` names a map derive_map() can make for any material with a depth map (the cone
+// maps and "depth_max_mip").
 bool is_derived_slot(const std::string& slot);
+// Whether `material` gets slot `slot` from derive_map() as its normal map: "normal", asked for
+// (normal_from_depth), a depth texture and no normal texture of its own.
+bool derives_normal_map(const Material& material, const std::string& slot);
 
 // The derived map for `slot` of `material`. Error: the material has no usable "depth" texture.
 Result<DerivedMap> derive_map(const Material& material, const std::string& slot);
@@ -46,6 +57,15 @@ Result<DerivedMap> derive_map(const Material& material, const std::string& slot)
 // The "depth_max_mip" chain of a depth map: level 0 of `depth` in its own format, then
 // generate_mips(kMin) and dilate_mips(kMin, wrap_u, wrap_v) (rasterizer/texture.h).
 Texture max_mip_chain(const Texture& depth, Wrap wrap_u, Wrap wrap_v);
+
+// The normal map derive_map() makes for `material` (derives_normal_map), from the memory cache.
+// Error: the material has no usable "depth" texture.
+Result<TexturePtr> derived_normal_map(const Material& material);
+
+// Each material whose normal map is the one derive_map() would make (normal_scale 1, no uv map of
+// its own, the same texels) drops it and asks for the derived one (normal_from_depth): what
+// `relief export` does before save_gltf, so that the file leaves the derived map out.
+void drop_derivable_normal_maps(Scene& scene);
 
 // The disk-cache folder as the environment sets it ("" when there is none).
 std::string derived_map_cache_dir();

@@ -9,9 +9,9 @@
 #include <glm/geometric.hpp>
 #include <glm/trigonometric.hpp>
 
-#include "plugins/registry.h"
 #include "render/derived_maps.h"
 #include "render/render.h"
+#include "render/validate.h"
 
 namespace relief {
 namespace {
@@ -218,8 +218,10 @@ Status check_request(const Scene& scene, const RenderOptions& opt) {
     return Status::error("scene '" + scene.name + "': " + std::to_string(triangles) +
                          " triangles to draw, more than the limit of " +
                          std::to_string(kMaxSceneTriangles));
-  if (!opt.technique.empty() && !PluginRegistry::global().find(opt.technique))
-    return Status::usage("unknown technique '" + opt.technique + "' (see `relief techniques`)");
+  if (!opt.technique.empty()) {
+    Result<const PluginDescriptor*> t = find_technique(opt.technique, ValueOrigin::option());
+    if (!t.ok()) return t.status();
+  }
   return check_shadow_settings(opt.shadow);
 }
 
@@ -236,7 +238,8 @@ Status bind_textures(const Material& m, BoundMaterial& b) {
     }
     auto it = m.textures.find(slot.name);
     if (it == m.textures.end() || !it->second) {
-      if (is_derived_slot(slot.name)) {  // cone maps: baked from depth, cached
+      // cone maps and max-mips: baked from depth, cached; the normal map when the material asks
+      if (is_derived_slot(slot.name) || derives_normal_map(m, slot.name)) {
         Result<DerivedMap> d = derive_map(m, slot.name);
         if (!d.ok()) return d.status().with_context("material '" + m.name + "'");
         b.uniforms.textures[s] = d->texture.get();
@@ -314,21 +317,16 @@ Result<BoundMaterial> bind_material(const Scene& scene, const Material& m, const
   const bool relief_material = m.textures.count("depth") != 0;
   const std::string technique =
       opt.technique.empty() || !relief_material ? m.technique : opt.technique;
-  b.plugin = PluginRegistry::global().find(technique);
-  if (!b.plugin)
-    return Status::error("material '" + m.name + "': unknown technique '" + technique + "'");
-  // Scene parameters the chosen plugin does not declare belong to other techniques.
-  std::map<std::string, float> scene_params;
-  for (const auto& [k, v] : m.params)
-    if (param_index(*b.plugin, k.c_str()) >= 0) scene_params[k] = v;
-  std::map<std::string, std::string> cli_params;
-  for (const auto& [k, v] : opt.params)
-    if (param_index(*b.plugin, k.c_str()) >= 0) {
-      cli_params[k] = v;
-      param_used[k] = true;
-    }
-  Result<std::vector<float>> values = resolve_params(*b.plugin, scene_params, cli_params);
-  if (!values.ok()) return values.status().with_context("material '" + m.name + "'");
+  if (m.source.pending())  // load_scene (render/validate.h) resolves it
+    return Status::error("material '" + m.name +
+                         "': its scene file's technique and parameters are not validated " +
+                         "(load it with load_scene)");
+  Result<const PluginDescriptor*> plugin =
+      find_technique(technique, ValueOrigin::of_material(m.name));
+  if (!plugin.ok()) return plugin.status();
+  b.plugin = *plugin;
+  Result<std::vector<float>> values = material_param_values(*b.plugin, m, opt.params, param_used);
+  if (!values.ok()) return values.status();
   for (size_t i = 0; i < values->size(); ++i) b.uniforms.params[i] = (*values)[i];
   RELIEF_RETURN_IF_ERROR(bind_textures(m, b));
   bind_surface(m, b);
@@ -380,11 +378,8 @@ Result<Plan> make_plan(const Scene& scene, const RenderOptions& opt) {
     plan.materials.push_back(std::move(b).value());
   }
   for (const auto& [key, used] : param_used)
-    if (!used && !plan.materials.empty()) {  // the first material's plugin names the key
-      Result<std::vector<float>> none =
-          resolve_params(*plan.materials.front().plugin, {}, {{key, opt.params.at(key)}});
-      return Status::usage(none.status().message() + "; no technique in this scene declares it");
-    }
+    if (!used && !plan.materials.empty())  // the first material's plugin names the key
+      return undeclared_param_option(*plan.materials.front().plugin, key, opt.params.at(key));
   RELIEF_RETURN_IF_ERROR(frame_uniforms(scene, opt, plan.frame));
   for (const Instance& inst : scene.instances)
     if (inst.material < 0 || inst.material >= static_cast<int>(scene.materials.size()) ||

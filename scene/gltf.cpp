@@ -410,6 +410,7 @@ Result<Scene> load_gltf(const std::string& path, const GltfLoadOptions& options)
   reader.set_scene_folder(scene_fs.folder);
   Result<Scene> scene = reader.read();
   if (!scene.ok()) return scene;
+  if (options.validate) RELIEF_RETURN_IF_ERROR(options.validate(*scene));
   // What relief ignores (scene/gltf_extensions.h): printed only for a scene that loads, so an
   // error stays the only line; --strict makes the first one the error.
   const json doc = json::parse(json_text, nullptr, false);

@@ -16,6 +16,7 @@
 //   scene.gltf: /meshes/0/primitives/0/indices: index 9 out of range (8 vertices)
 #pragma once
 
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -38,10 +39,16 @@ struct GltfLoadOptions {
   bool strict = false;
   // When set, the findings go here (warn == true: the ones with a line) instead of stderr.
   std::vector<GltfIgnored>* ignored = nullptr;
+  // When set, runs on the scene read, before the findings above: its error is the load's error.
+  // render/validate.h's load_scene sets validate_scene here (techniques and parameters).
+  std::function<Status(Scene&)> validate;
 };
 
-// Loads a .gltf or .glb file. Relief techniques and parameters are checked against the plugin
-// registry (PluginRegistry::global()), so external plugins must be loaded before.
+// Loads a .gltf or .glb file as data: RELIEF_relief_mapping's technique and plugin parameters are
+// recorded as the file gives them, with their JSON pointers (Material::source), for
+// render/validate.h to check against the plugin registry; load_scene (render/validate.h) is
+// load_gltf with that check, what a caller that renders uses. A relief material without a normal
+// texture asks for the one derived from its depth map (Material::normal_from_depth).
 // Input safety (docs/errors.md, "The scene folder rule", "Only regular files"): the file, its
 // buffers and images are read only when they are regular files (at most kMaxInputFileBytes);
 // URIs are relative references (or data: URIs) that resolve inside the file's folder.
@@ -49,7 +56,9 @@ Result<Scene> load_gltf(const std::string& path, const GltfLoadOptions& options 
 
 // Writes `scene` as glTF: .gltf (JSON, a .bin buffer and one PNG per texture next to it, named
 // after the file's stem) or .glb (everything embedded). Textures must be 8-bit (R8, RG8, RGBA8) or
-// R16; a normal texture that equals the one load_gltf derives from the depth map is left out.
+// R16. Every texture the material holds is written; a material that asks for its normal map from
+// depth (normal_from_depth, no "normal" texture) is written so (render/derived_maps.h's
+// drop_derivable_normal_maps turns a normal map equal to the derived one into that request).
 // Every file is written to a temporary name and renamed into place once all are written.
 // load_gltf(save_gltf(s)) reproduces s's meshes, materials, lights and cameras bit for bit
 // (camera and light orientations through double-precision quaternions; see the docs).

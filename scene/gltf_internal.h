@@ -22,7 +22,6 @@
 #include <nlohmann/json.hpp>
 
 #include "base/status.h"
-#include "plugins/plugin.h"
 #include "rasterizer/safe_file.h"
 #include "scene/animation.h"
 #include "scene/image_io.h"
@@ -49,9 +48,9 @@ inline constexpr int kByte = 5120, kUByte = 5121, kShort = 5122, kUShort = 5123,
 // Whether `s` ends with `suffix` (given in lower case), in any case (gltf.cpp).
 bool has_suffix(const std::string& s, const char* suffix);
 
-// The normal map load_gltf derives from a relief material's depth map when the file gives none
-// (gltf_read_materials.cpp); save_gltf leaves out a normal map equal to it.
-Texture derived_normal_map(const Material& mat, const Texture& depth);
+// The slot read_material loads a cone map under when the file leaves its kind to the technique;
+// it moves to MaterialSource::cone_texture before the material is returned.
+inline constexpr const char* kConeOfTechnique = "cone_?";
 
 // A texture transform (KHR_texture_transform): uv' = T(offset) R(rotation) S(scale) uv.
 struct UvTransform {
@@ -168,14 +167,9 @@ class Reader {
                               std::vector<TextureSlot>& slots, bool& normal_from_depth,
                               int& max_aniso) const;
   Status read_relief_textures(const json& e, const std::string& ep, bool depth_is_height,
-                              const std::string& technique, std::vector<TextureSlot>& slots) const;
+                              Material& mat, std::vector<TextureSlot>& slots) const;
   Status read_relief_params(const json& e, const std::string& ep, Material& mat) const;
   Status load_material_textures(const std::vector<TextureSlot>& slots, MaterialInfo& info);
-  Status check_required_textures(const Material& mat, const std::string& pointer) const;
-  static const PluginDescriptor* declaring_plugin(const std::string& technique,
-                                                  const std::string& name);
-  Status check_params(const Material& mat,
-                      const std::map<std::string, std::string>& pointers) const;
 
   // ---- accessors and meshes (gltf_read_meshes.cpp) ----
   Result<View> view(int index, const std::string& where) const;

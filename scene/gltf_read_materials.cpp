@@ -2,7 +2,9 @@
 // (pbrMetallicRoughness base colour, normal, emissive and occlusion textures, alpha modes),
 // KHR_materials_emissive_strength, KHR_materials_unlit and the RELIEF_relief_mapping material
 // extension (technique, relief textures and parameters; docs/scene-format.md,
-// docs/relief_mapping.schema.json), checked against the plugin registry.
+// docs/relief_mapping.schema.json). What only the plugin registry can check (the technique, the
+// parameters' types, a cone map's kind, the required textures) is recorded in Material::source
+// with its JSON pointers for render/validate.h; scene/ knows no technique.
 #include <algorithm>
 #include <cmath>
 #include <map>
@@ -10,33 +12,17 @@
 
 #include <glm/matrix.hpp>
 
-#include "bake/normal_map.h"
-#include "plugins/registry.h"
 #include "scene/gltf.h"
 #include "scene/gltf_internal.h"
 #include "scene/gltf_validate.h"
 
 namespace relief::gltf_detail {
 
-// The normal map load_gltf derives from a relief material's depth map when the file gives none:
-// the material's depth_scale (else its technique's default) and wrapping when both axes repeat.
-Texture derived_normal_map(const Material& mat, const Texture& depth) {
-  float depth_scale = 0.05f;
-  if (auto it = mat.params.find("depth_scale"); it != mat.params.end()) {
-    depth_scale = it->second;
-  } else if (const PluginDescriptor* p = PluginRegistry::global().find(mat.technique)) {
-    const int i = param_index(*p, "depth_scale");
-    if (i >= 0) depth_scale = p->params[i].default_value;
-  }
-  const bool wrap = mat.sampler.wrap_u == Wrap::kRepeat && mat.sampler.wrap_v == Wrap::kRepeat;
-  return normal_map_from_depth(depth, depth_scale, wrap);
-}
-
 namespace {
 
-// The UvMap (plugins/plugin.h) from the uv varying (the main texture's transformed TEXCOORD_0)
-// to the coordinates of a texture with transform t: t composed with the inverse of `main` on
-// TEXCOORD_0, t itself on TEXCOORD_1.
+// The UvMap (shaders_cpp/uniforms.h) from the uv varying (the main texture's transformed
+// TEXCOORD_0) to the coordinates of a texture with transform t: t composed with the inverse of
+// `main` on TEXCOORD_0, t itself on TEXCOORD_1.
 UvMap relative_uv_map(const UvTransform& t, const UvTransform& main) {
   UvMap m;
   if (t.tex_coord == 0 && t.offset == main.offset && t.scale == main.scale &&
@@ -68,6 +54,7 @@ Result<Reader::MaterialInfo> Reader::read_material(int index) {
   MaterialInfo info;
   Material& mat = info.material;
   mat.name = gm.name.empty() ? "material" + std::to_string(index) : gm.name;
+  mat.source.file = path_;
   std::vector<TextureSlot> slots;
   RELIEF_RETURN_IF_ERROR(read_core_material(gm, mp, mat, slots));
   RELIEF_RETURN_IF_ERROR(read_khr_material_extensions(gm, mp, mat));
@@ -85,6 +72,11 @@ Result<Reader::MaterialInfo> Reader::read_material(int index) {
   }
 
   RELIEF_RETURN_IF_ERROR(load_material_textures(slots, info));
+  // A cone map whose kind the technique decides waits in the source (render/validate.h).
+  if (auto cone = mat.textures.find(kConeOfTechnique); cone != mat.textures.end()) {
+    mat.source.cone_texture = cone->second;
+    mat.textures.erase(cone);
+  }
   if (max_aniso > 1) {
     mat.sampler.filter = Filter::kAnisotropic;
     mat.sampler.max_aniso = max_aniso;
@@ -95,12 +87,10 @@ Result<Reader::MaterialInfo> Reader::read_material(int index) {
     mat.uv_scale = glm::vec2(info.uv.scale);
     mat.uv_offset = glm::vec2(info.uv.offset);
   }
-  // The normal map a relief material needs, derived from its depth map when none is given.
-  if (mat.textures.count("depth") && !mat.textures.count("normal") && normal_from_depth) {
-    mat.textures["normal"] =
-        std::make_shared<Texture>(derived_normal_map(mat, *mat.textures["depth"]));
-  }
-  RELIEF_RETURN_IF_ERROR(check_required_textures(mat, ext->is_null() ? mp : ep));
+  // The normal map a relief material needs comes from its depth map when none is given
+  // (render/derived_maps.h, when a technique reads it).
+  mat.normal_from_depth = normal_from_depth;
+  mat.source.slots_pointer = ext->is_null() ? mp : ep;
   return info;
 }
 
@@ -207,13 +197,7 @@ Status Reader::read_relief_material(const json& e, const std::string& ep, Materi
       return fail(ep + "/technique", "expected a technique name, got " + e["technique"].dump());
     mat.technique = e["technique"].get<std::string>();
   }
-  if (!PluginRegistry::global().find(mat.technique)) {
-    std::string known;
-    for (const PluginDescriptor* p : PluginRegistry::global().all())
-      known += (known.empty() ? "" : ", ") + std::string(p->name);
-    return fail(ep + "/technique",
-                "unknown technique '" + mat.technique + "' (known: " + known + ")");
-  }
+  mat.source.technique_pointer = ep + "/technique";  // checked by render/validate.h
   bool depth_is_height = false;
   RELIEF_RETURN_IF_ERROR(get_bool(e, "depth_is_height", ep, depth_is_height));
   RELIEF_RETURN_IF_ERROR(get_bool(e, "normal_from_depth", ep, normal_from_depth));
@@ -228,15 +212,14 @@ Status Reader::read_relief_material(const json& e, const std::string& ep, Materi
   mat.specular = static_cast<float>(specular);
   mat.shininess = static_cast<float>(shininess);
   RELIEF_RETURN_IF_ERROR(get_int(e, "max_anisotropy", ep, max_aniso, 1, 16));
-  RELIEF_RETURN_IF_ERROR(read_relief_textures(e, ep, depth_is_height, mat.technique, slots));
+  RELIEF_RETURN_IF_ERROR(read_relief_textures(e, ep, depth_is_height, mat, slots));
   return read_relief_params(e, ep, mat);
 }
 
 // The relief textures of RELIEF_relief_mapping `e` as slots: depth, relief_dual's back layer,
 // the cone map.
 Status Reader::read_relief_textures(const json& e, const std::string& ep, bool depth_is_height,
-                                    const std::string& technique,
-                                    std::vector<TextureSlot>& slots) const {
+                                    Material& mat, std::vector<TextureSlot>& slots) const {
   if (e.contains("depth_texture")) {
     Result<TexRef> r = tex_ref_from_json(e["depth_texture"], ep + "/depth_texture");
     if (!r.ok()) return r.status();
@@ -256,76 +239,72 @@ Status Reader::read_relief_textures(const json& e, const std::string& ep, bool d
   if (e.contains("cone_texture")) {
     Result<TexRef> r = tex_ref_from_json(e["cone_texture"], ep + "/cone_texture");
     if (!r.ok()) return r.status();
-    // The slot is cone_<kind>: cone_kind, else the kind the technique reads.
-    std::string kind;
+    // The slot is cone_<kind>: cone_kind, else the kind the technique reads (render/validate.h
+    // names the slot once it knows the technique).
+    std::string slot = kConeOfTechnique;
     if (e.contains("cone_kind")) {
       const json& k = e["cone_kind"];
       if (!k.is_string() || (k != "conservative" && k != "quad" && k != "relaxed"))
         return fail(ep + "/cone_kind", "expected conservative, quad or relaxed, got " + k.dump());
-      kind = k.get<std::string>();
-    } else if (const PluginDescriptor* p = PluginRegistry::global().find(technique)) {
-      for (int i = 0; i < p->num_textures && kind.empty(); ++i)
-        if (std::string(p->textures[i].name).rfind("cone_", 0) == 0) kind = p->textures[i].name + 5;
+      slot = "cone_" + k.get<std::string>();
+    } else {
+      mat.source.cone_pointer = ep + "/cone_texture";
     }
-    if (kind.empty())
-      return fail(ep + "/cone_texture",
-                  "technique " + technique + " reads no cone map: give cone_kind");
-    slots.push_back({"cone_" + kind, *r, TexUse::kCone});
+    slots.push_back({slot, *r, TexUse::kCone});
   }
   return {};
 }
 
-// Plugin parameters: the three common ones at the top level, any other in "params".
+// Plugin parameters: the three common ones at the top level, any other in "params", recorded as
+// the file gives them with their JSON pointers (render/validate.h types them by the schema of the
+// technique that declares them, by the rules --param applies).
 Status Reader::read_relief_params(const json& e, const std::string& ep, Material& mat) const {
-  std::map<std::string, std::string> param_pointer;  // parameter -> JSON pointer
+  std::map<std::string, FileParam>& params = mat.source.params;
+  const auto top_level = [&](const char* key, double value) {
+    FileParam& f = params[key];
+    f.number = value;
+    f.pointer = ep + "/" + key;
+    f.top_level = true;
+  };
   int steps = 0, binary_steps = 0;
   double depth_scale = 0.0;
   if (e.contains("steps")) {
     RELIEF_RETURN_IF_ERROR(get_int(e, "steps", ep, steps, 1, 1 << 20));
-    mat.params["steps"] = static_cast<float>(steps);
-    param_pointer["steps"] = ep + "/steps";
+    top_level("steps", steps);
   }
   if (e.contains("binary_steps")) {
     RELIEF_RETURN_IF_ERROR(get_int(e, "binary_steps", ep, binary_steps, 0, 1 << 20));
-    mat.params["binary_steps"] = static_cast<float>(binary_steps);
-    param_pointer["binary_steps"] = ep + "/binary_steps";
+    top_level("binary_steps", binary_steps);
   }
   if (e.contains("depth_scale")) {
     RELIEF_RETURN_IF_ERROR(get_number(e, "depth_scale", ep, depth_scale, 0.0, 1e6));
-    mat.params["depth_scale"] = static_cast<float>(depth_scale);
-    param_pointer["depth_scale"] = ep + "/depth_scale";
+    top_level("depth_scale", static_cast<float>(depth_scale));
   }
-  if (e.contains("params")) {
-    const json& ps = e["params"];
-    const std::string pp = ep + "/params";
-    if (!ps.is_object()) return fail(pp, "expected an object of parameter values");
-    for (auto it = ps.begin(); it != ps.end(); ++it) {
-      const std::string p = pp + "/" + pointer_token(it.key());
-      if (param_pointer.count(it.key()))
-        return fail(p, "given twice (also at " + param_pointer[it.key()] + ")");
-      // Typed as the declaring technique's schema says, by the rules --param applies.
-      ParamValue pv;
-      if (it->is_boolean()) {
-        pv.kind = ParamValue::Kind::kBool;
-        pv.boolean = it->get<bool>();
-      } else if (it->is_number()) {
-        pv.number = it->get<double>();
-      } else if (it->is_string()) {
-        pv.kind = ParamValue::Kind::kText;
-        pv.text = it->get<std::string>();
-      } else {
-        const char* got = it->is_array() ? "an array" : it->is_object() ? "an object" : "null";
-        return fail(p, std::string("expected a number, a boolean or a choice name, got ") + got);
-      }
-      const PluginDescriptor* by = declaring_plugin(mat.technique, it.key());
-      if (!by) return fail(p, "no technique has a parameter '" + it.key() + "'");
-      Result<float> v = resolve_param_value(*by, it.key(), pv);
-      if (!v.ok()) return fail(p, v.status().message());
-      mat.params[it.key()] = *v;
-      param_pointer[it.key()] = p;
+  if (!e.contains("params")) return {};
+  const json& ps = e["params"];
+  const std::string pp = ep + "/params";
+  if (!ps.is_object()) return fail(pp, "expected an object of parameter values");
+  for (auto it = ps.begin(); it != ps.end(); ++it) {
+    const std::string p = pp + "/" + pointer_token(it.key());
+    if (params.count(it.key()))
+      return fail(p, "given twice (also at " + params[it.key()].pointer + ")");
+    FileParam f;
+    f.pointer = p;
+    if (it->is_boolean()) {
+      f.kind = FileParam::Kind::kBool;
+      f.boolean = it->get<bool>();
+    } else if (it->is_number()) {
+      f.number = it->get<double>();
+    } else if (it->is_string()) {
+      f.kind = FileParam::Kind::kText;
+      f.text = it->get<std::string>();
+    } else {
+      const char* got = it->is_array() ? "an array" : it->is_object() ? "an object" : "null";
+      return fail(p, std::string("expected a number, a boolean or a choice name, got ") + got);
     }
+    params[it.key()] = std::move(f);
   }
-  return check_params(mat, param_pointer);
+  return {};
 }
 
 // Textures: one sampler per material; a texture transform per texture. The uv varying is
@@ -393,49 +372,6 @@ Status Reader::load_material_textures(const std::vector<TextureSlot>& slots, Mat
       mat.occlusion_texture = *tex;
     else
       mat.textures[s.name] = *tex;
-  }
-  return {};
-}
-
-// Texture slots the technique requires; an error at `pointer` names the first one missing.
-Status Reader::check_required_textures(const Material& mat, const std::string& pointer) const {
-  const PluginDescriptor* plugin = PluginRegistry::global().find(mat.technique);
-  for (int s = 0; plugin && s < plugin->num_textures; ++s) {
-    const TextureSlotSpec& slot = plugin->textures[s];
-    const std::string name = slot.name;
-    // Slots a file can fill and nothing derives (cone maps are baked by the renderer).
-    if (name != "base_color" && name != "normal" && name != "depth") continue;
-    if (!slot.required || mat.textures.count(slot.name)) continue;
-    const std::string where = name == "base_color" ? "pbrMetallicRoughness/baseColorTexture"
-                              : name == "normal"   ? "normalTexture"
-                                                   : name + "_texture";
-    return fail(pointer,
-                "technique " + mat.technique + " needs a '" + name + "' texture (" + where + ")");
-  }
-  return {};
-}
-
-// Each parameter is checked by the material's technique when it declares it, otherwise by a
-// technique that does (parameters of other techniques apply when --technique switches).
-const PluginDescriptor* Reader::declaring_plugin(const std::string& technique,
-                                                 const std::string& name) {
-  const PluginRegistry& reg = PluginRegistry::global();
-  if (const PluginDescriptor* own = reg.find(technique);
-      own && param_index(*own, name.c_str()) >= 0)
-    return own;
-  for (const PluginDescriptor* p : reg.all())
-    if (param_index(*p, name.c_str()) >= 0) return p;
-  return nullptr;
-}
-
-Status Reader::check_params(const Material& mat,
-                            const std::map<std::string, std::string>& pointers) const {
-  for (const auto& [name, value] : mat.params) {
-    const PluginDescriptor* by = declaring_plugin(mat.technique, name);
-    const std::string& where = pointers.at(name);
-    if (!by) return fail(where, "no technique has a parameter '" + name + "'");
-    Result<std::vector<float>> r = resolve_params(*by, {{name, value}}, {});
-    if (!r.ok()) return fail(where, r.status().message());
   }
   return {};
 }

@@ -352,14 +352,6 @@ class Writer {
     return it == m.uv_maps.end() ? UvMap() : it->second;
   }
 
-  static bool same_texture(const Texture& a, const Texture& b) {
-    if (a.format() != b.format() || a.levels() != b.levels() || a.color_space() != b.color_space())
-      return false;
-    for (int l = 0; l < a.levels(); ++l)
-      if (a.level(l).data != b.level(l).data) return false;
-    return true;
-  }
-
   Status write_materials() {
     doc_["materials"] = ojson::array();
     for (size_t i = 0; i < s_.materials.size(); ++i) {
@@ -393,11 +385,7 @@ class Writer {
         Result<ojson> ti = texture_info(m, depth->second, label + "_depth");
         if (!ti.ok()) return ti.status();
         e["depth_texture"] = *ti;
-        if (!write_normal)
-          e["normal_from_depth"] = false;
-        else if (m.normal_scale == 1.0f && !m.uv_maps.count("normal") &&
-                 same_texture(*normal->second, derived_normal_map(m, *depth->second)))
-          write_normal = false;  // load_gltf derives the same map
+        if (!write_normal && !m.normal_from_depth) e["normal_from_depth"] = false;
       }
       if (write_normal) {
         Result<ojson> ti =

@@ -30,11 +30,45 @@ struct Mesh {
   std::vector<uint32_t> indices;      // triangles
 };
 
+// A plugin parameter as a scene file wrote it: its JSON value, not yet typed by a technique's
+// schema, and the JSON pointer it came from (render/validate.h types it).
+struct FileParam {
+  enum class Kind { kNumber, kBool, kText } kind = Kind::kNumber;
+  double number = 0.0;
+  bool boolean = false;
+  std::string text;
+  std::string pointer;
+  // steps, binary_steps and depth_scale at the top of RELIEF_relief_mapping: a number the loader
+  // has already read (and ranged) as the file format says; the rest ("params") take the type of
+  // the technique that declares them.
+  bool top_level = false;
+};
+
+// What a scene file said of a material that only the plugin registry can check: scene/ knows no
+// technique, so the loader records the values with their JSON pointers, and validate_scene
+// (render/validate.h; load_scene runs it) resolves them into Material::params, the cone map's
+// "cone_<kind>" slot and the technique check, then clears this. A material built in code leaves
+// it empty.
+struct MaterialSource {
+  std::string file;               // the scene file as messages name it; empty: nothing pending
+  std::string technique_pointer;  // where the technique is named ("": the loader chose it)
+  std::string slots_pointer;      // where a missing required texture is reported
+  std::map<std::string, FileParam> params;  // by name
+  TexturePtr cone_texture;  // cone_texture without cone_kind: the technique's cone map
+  std::string cone_pointer;
+  bool pending() const { return !file.empty(); }
+};
+
 struct Material {
   std::string name;
   std::string technique = "normal";            // plugin name
   std::map<std::string, float> params;         // by schema name; missing ones take defaults
   std::map<std::string, TexturePtr> textures;  // by slot name ("base_color", "depth", ...)
+  // With no "normal" texture, a technique that reads one gets the normal map of the "depth"
+  // texture (render/derived_maps.h: depth_scale from params, else the technique's default; wrap
+  // when both sampler axes repeat). glTF files ask for it unless normal_from_depth is false.
+  bool normal_from_depth = false;
+  MaterialSource source;  // a scene file's values still to check (render/validate.h)
   glm::vec4 base_color{1.0f};
   glm::vec2 uv_scale{1.0f};  // tiling (KHR_texture_transform scale)
   glm::vec2 uv_offset{0.0f};
@@ -42,7 +76,7 @@ struct Material {
   float specular = 0.25f;
   float shininess = 32.0f;
   bool double_sided = false;
-  AlphaMode alpha_mode = AlphaMode::kOpaque;  // glTF alphaMode (plugins/plugin.h)
+  AlphaMode alpha_mode = AlphaMode::kOpaque;  // glTF alphaMode (shaders_cpp/uniforms.h)
   float alpha_cutoff = 0.5f;                  // glTF alphaCutoff, MASK only
   // Per texture slot (and the emissive and occlusion textures): the map from the uv varying (the
   // main texture's transformed uv, uv_scale/uv_offset above) to the slot's uv; identity if absent.

@@ -12,6 +12,7 @@
 #include "builtin/builtin.h"
 #include "plugins/registry.h"
 #include "plugins/relief_shell.h"
+#include "render/derived_maps.h"
 #include "scene/image_io.h"
 #include "scene/mesh_prep.h"
 #include "sweep/sweep.h"
@@ -181,6 +182,10 @@ Result<Field> field_of_material(const Scene& scene, int material) {
   auto normal = m.textures.find("normal");
   if (normal != m.textures.end() && normal->second) {
     fm.textures["normal"] = normal->second;
+  } else if (derives_normal_map(m, "normal")) {  // a file's: the one its renders read
+    Result<TexturePtr> n = derived_normal_map(m);
+    if (!n.ok()) return n.status();
+    fm.textures["normal"] = *n;
   } else {
     auto n = std::make_shared<Texture>(normal_map_from_depth(f.depth(), f.depth_scale(), true));
     n->generate_mips(MipReduce::kAverage);

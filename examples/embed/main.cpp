@@ -2,12 +2,12 @@
 #include <cstdio>
 
 #include "render/renderer.h"
-#include "scene/gltf.h"
+#include "render/validate.h"
 #include "scene/image_io.h"
 
 int main(int argc, char** argv) {
   if (argc != 3) return std::fprintf(stderr, "usage: embed SCENE.gltf OUT.png\n"), 2;
-  relief::Result<relief::Scene> scene = relief::load_gltf(argv[1]);
+  relief::Result<relief::Scene> scene = relief::load_scene(argv[1]);
   if (!scene.ok()) return std::fprintf(stderr, "%s\n", scene.status().message().c_str()), 1;
   relief::Renderer renderer(relief::make_cpu_backend());  // all cores
   relief::RenderOptions options;                          // 800x600, the scene's own techniques

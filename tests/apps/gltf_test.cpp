@@ -19,7 +19,9 @@
 
 #include "apps/scene_source.h"
 #include "builtin/builtin.h"
+#include "render/derived_maps.h"
 #include "render/render.h"
+#include "render/validate.h"
 #include "scene/animation.h"
 #include "scene/image_io.h"
 #include "tests/test_dir.h"
@@ -203,6 +205,17 @@ void expect_round_trip(const Scene& builtin, Scene loaded) {
   expect_same_pixels(render(builtin, 320, 180), render(loaded, 320, 180));
 }
 
+// The normal maps a file asks for from its depth maps (render/derived_maps.h, made when a frame is
+// planned) put in its materials, so that it compares with a built-in scene that holds them.
+void add_derived_normal_maps(Scene& s) {
+  for (Material& m : s.materials) {
+    if (!derives_normal_map(m, "normal")) continue;
+    Result<TexturePtr> normal = derived_normal_map(m);
+    ASSERT_TRUE(normal.ok()) << normal.status().message();
+    m.textures["normal"] = *normal;
+  }
+}
+
 // Loads `file` (first written from the built-in scene when `save_first`) and compares it with
 // the built-in scene `name`.
 void expect_builtin_file(const std::string& name, const std::string& file, bool save_first) {
@@ -212,8 +225,9 @@ void expect_builtin_file(const std::string& name, const std::string& file, bool 
   if (save_first) {
     ASSERT_TRUE(save_gltf(*builtin, file).ok());
   }
-  Result<Scene> loaded = load_gltf(file);
+  Result<Scene> loaded = load_scene(file);
   ASSERT_TRUE(loaded.ok()) << loaded.status().message();
+  add_derived_normal_maps(*loaded);
   expect_round_trip(*builtin, *loaded);
 }
 
@@ -338,7 +352,7 @@ glm::vec4 expected_at(double x, double y, glm::dvec2 offset, double rotation, gl
 // are at least 0.1 from any quadrant or quad edge (where nearest sampling is unambiguous).
 void expect_quadrant_pixels(const std::string& file, glm::dvec2 offset, double rotation,
                             glm::dvec2 scale) {
-  Result<Scene> s = load_gltf(file);
+  Result<Scene> s = load_scene(file);
   ASSERT_TRUE(s.ok()) << s.status().message();
   const Framebuffer fb = render(*s, 64, 64);
   ASSERT_EQ(fb.color.width, 64);
@@ -372,7 +386,7 @@ TEST_F(Gltf, TextureTransformOffsetAndScale) {
   d.j["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"]["extensions"] = {
       {"KHR_texture_transform", {{"offset", {0.5, 0.25}}, {"scale", {0.5, 0.5}}}}};
   const std::string file = d.write(dir_, "offset_scale");
-  Result<Scene> s = load_gltf(file);
+  Result<Scene> s = load_scene(file);
   ASSERT_TRUE(s.ok()) << s.status().message();
   EXPECT_EQ(s->materials[0].uv_scale, glm::vec2(0.5f));
   EXPECT_EQ(s->materials[0].uv_offset, glm::vec2(0.5f, 0.25f));
@@ -415,7 +429,7 @@ TEST_F(Gltf, LightsAndCamerasFollowTheirNodes) {
                           {"perspective", {{"yfov", 0.8}, {"znear", 0.5}}}});
   j["nodes"].push_back({{"camera", 1}, {"translation", {0, 0, 5}}});
   j["scenes"][0]["nodes"] = {6, 0, 2, 3, 5};
-  Result<Scene> sc = load_gltf(d.write(dir_, "lights"));
+  Result<Scene> sc = load_scene(d.write(dir_, "lights"));
   ASSERT_TRUE(sc.ok()) << sc.status().message();
   ASSERT_EQ(sc->lights.size(), 3u);
   // Traversal order: node 0's child 4 (point), then 3 (sun), then 5 (spot).
@@ -476,7 +490,7 @@ TEST_F(Gltf, NoCameraGetsTheDefaultFraming) {
   Doc d = quad_doc(dir_);
   d.j.erase("cameras");
   d.j["nodes"][2].erase("camera");
-  Result<Scene> s = load_gltf(d.write(dir_, "nocamera"));
+  Result<Scene> s = load_scene(d.write(dir_, "nocamera"));
   ASSERT_TRUE(s.ok()) << s.status().message();
   ASSERT_EQ(s->cameras.size(), 1u);
   const Camera& c = s->cameras[0];
@@ -521,7 +535,7 @@ TEST_F(Gltf, ReliefExtensionSetsTechniqueParametersAndMaps) {
                                                                 {"silhouette", true},
                                                                 {"receives_shadow", false},
                                                                 {"params", {{"min_steps", 4}}}};
-  Result<Scene> s = load_gltf(d.write(dir_, "relief"));
+  Result<Scene> s = load_scene(d.write(dir_, "relief"));
   ASSERT_TRUE(s.ok()) << s.status().message();
   const Material& m = s->materials[0];
   EXPECT_EQ(m.technique, "relief");
@@ -540,9 +554,12 @@ TEST_F(Gltf, ReliefExtensionSetsTechniqueParametersAndMaps) {
   EXPECT_EQ(depth.levels(), 1);                           // a NEAREST (no mipmap) sampler
   const uint8_t want[4] = {255, 255 - 64, 255 - 128, 0};  // depth = 1 - height, exact in 8 bits
   for (int i = 0; i < 4; ++i) EXPECT_EQ(depth.level(0).data[i], want[i]) << i;
-  // No normalTexture: derived from the depth map.
-  ASSERT_TRUE(m.textures.count("normal"));
-  EXPECT_EQ(m.textures.at("normal")->format(), TexFormat::kRGBA8);
+  // No normalTexture: derived from the depth map when a technique reads it (a derived map).
+  EXPECT_FALSE(m.textures.count("normal"));
+  ASSERT_TRUE(derives_normal_map(m, "normal"));
+  Result<TexturePtr> normal = derived_normal_map(m);
+  ASSERT_TRUE(normal.ok()) << normal.status().message();
+  EXPECT_EQ((*normal)->format(), TexFormat::kRGBA8);
   EXPECT_EQ(m.sampler.filter, Filter::kNearest);
   EXPECT_EQ(m.sampler.wrap_u, Wrap::kClamp);
 }
@@ -550,7 +567,7 @@ TEST_F(Gltf, ReliefExtensionSetsTechniqueParametersAndMaps) {
 // ---- bad input: one line naming the file and the JSON pointer ----
 
 void expect_error(const std::string& file, const std::string& pointer, const std::string& what) {
-  Result<Scene> r = load_gltf(file);
+  Result<Scene> r = load_scene(file);
   ASSERT_FALSE(r.ok()) << file << " loaded";
   const std::string& m = r.status().message();
   EXPECT_EQ(m.find('\n'), std::string::npos) << m;
@@ -563,7 +580,7 @@ TEST_F(Gltf, ConeMapsGoToTheTechniquesConeSlot) {
   auto load = [&](const json& e, const std::string& name) {
     Doc d = quad_doc(dir_);
     d.j["materials"][0]["extensions"]["RELIEF_relief_mapping"] = e;
-    return load_gltf(d.write(dir_, name));
+    return load_scene(d.write(dir_, name));
   };
   const json tex = {{"index", 0}};
   // No cone map in the file: the renderer bakes it from the depth map, the load succeeds.
@@ -593,7 +610,7 @@ TEST_F(Gltf, IndexOutOfRange) {
   const std::vector<uint16_t> idx = {0, 1, 9};
   d.j["meshes"][0]["primitives"][0]["indices"] = d.accessor(idx, 1, kUShortType, "SCALAR");
   const std::string f = d.write(dir_, "bad");
-  Result<Scene> r = load_gltf(f);
+  Result<Scene> r = load_scene(f);
   ASSERT_FALSE(r.ok());
   EXPECT_EQ(r.status().message(),
             f + ": /meshes/0/primitives/0/indices: index 9 out of range (4 vertices)");
@@ -698,7 +715,7 @@ TEST_F(Gltf, TruncatedGlb) {
   for (const uintmax_t keep : {size - 1, size / 2, uintmax_t{20}}) {
     fs::copy_file(path("plane.glb"), path("cut.glb"), fs::copy_options::overwrite_existing);
     fs::resize_file(path("cut.glb"), keep);
-    Result<Scene> r = load_gltf(path("cut.glb"));
+    Result<Scene> r = load_scene(path("cut.glb"));
     ASSERT_FALSE(r.ok()) << keep;
     const std::string& m = r.status().message();
     EXPECT_EQ(m.rfind(path("cut.glb") + ": ", 0), 0u) << m;
@@ -714,7 +731,7 @@ TEST_F(Gltf, NonIndexedPrimitivesAndDefaultMaterial) {
   d.j["meshes"].push_back({{"primitives", json::array({{{"attributes", {{"POSITION", p}}}}})}});
   d.j["nodes"].push_back({{"mesh", 1}});
   d.j["scenes"][0]["nodes"].push_back(3);
-  Result<Scene> s = load_gltf(d.write(dir_, "plain"));
+  Result<Scene> s = load_scene(d.write(dir_, "plain"));
   ASSERT_TRUE(s.ok()) << s.status().message();
   ASSERT_EQ(s->instances.size(), 2u);
   const Mesh& m = s->meshes[s->instances[1].mesh];
@@ -777,7 +794,7 @@ glm::vec3 world_vertex(const Scene& s, size_t v) {
 }
 
 TEST_F(Gltf, AnimationsSkinsAndMorphTargetsArePosedPerFrame) {
-  Result<Scene> r = load_gltf(animated_quad_doc(dir_).write(dir_, "animated"));
+  Result<Scene> r = load_scene(animated_quad_doc(dir_).write(dir_, "animated"));
   ASSERT_TRUE(r.ok()) << r.status().message();
   Scene& s = *r;
   ASSERT_TRUE(s.animation);

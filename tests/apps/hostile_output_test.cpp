@@ -29,6 +29,7 @@
 #include "apps/output.h"
 #include "apps/scene_source.h"
 #include "rasterizer/output_file.h"
+#include "render/validate.h"
 #include "scene/gltf.h"
 #include "scene/image_io.h"
 #include "scene/scene.h"
@@ -263,7 +264,7 @@ TEST(Hostile, ExportGivesTwoTexturesOfOneLabelTwoFiles) {
   scene->instances.push_back(inst);
   const std::string path = (dir / "twins.gltf").string();
   ASSERT_TRUE(relief::save_gltf(*scene, path).ok());
-  relief::Result<relief::Scene> back = relief::load_gltf(path);
+  relief::Result<relief::Scene> back = relief::load_scene(path);
   ASSERT_TRUE(back.ok()) << back.status().message();
   ASSERT_EQ(back->materials.size(), scene->materials.size());
   const relief::Texture& a = *back->materials[0].textures.at("base_color");

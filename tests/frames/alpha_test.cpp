@@ -14,6 +14,7 @@
 
 #include "builtin/builtin_room.h"
 #include "render/render.h"
+#include "render/validate.h"
 #include "scene/gltf.h"
 #include "scene/image_io.h"
 #include "scene/mesh_prep.h"
@@ -323,7 +324,7 @@ std::string blended_quad_gltf(const std::filesystem::path& dir, AlphaMode mode) 
 TEST(AlphaGltf, ModeAndCutoffRoundTrip) {
   const std::filesystem::path dir = test::fresh_test_dir("alpha_gltf");
   for (AlphaMode mode : {AlphaMode::kOpaque, AlphaMode::kMask, AlphaMode::kBlend}) {
-    Result<Scene> s = load_gltf(blended_quad_gltf(dir, mode));
+    Result<Scene> s = load_scene(blended_quad_gltf(dir, mode));
     ASSERT_TRUE(s.ok()) << s.status().message();
     const Material* layer = nullptr;
     for (const Material& m : s->materials) {
@@ -350,7 +351,7 @@ TEST(AlphaGltf, CutoutAndBlendScenesRenderTheSameAfterARoundTrip) {
     SCOPED_TRACE(name);
     const std::string path = (dir / (std::string(name) + ".gltf")).string();
     ASSERT_TRUE(save_gltf(scene, path).ok());
-    Result<Scene> back = load_gltf(path);
+    Result<Scene> back = load_scene(path);
     ASSERT_TRUE(back.ok()) << back.status().message();
     const RenderResult a = render(scene), b = render(*back);
     float worst = 0.0f;

@@ -13,6 +13,7 @@
 
 #include "builtin/builtin.h"
 #include "render/render.h"
+#include "render/validate.h"
 #include "scene/animation.h"
 #include "scene/gltf.h"
 #include "tests/test_dir.h"
@@ -70,7 +71,7 @@ TEST_P(ExportRoundTrip, RendersBitIdenticalToTheBuiltin) {
     GltfLoadOptions opt;
     opt.ignored = &ignored;
     opt.strict = true;  // nothing of ours is ignored
-    Result<Scene> loaded = load_gltf(file, opt);
+    Result<Scene> loaded = load_scene(file, opt);
     ASSERT_TRUE(loaded.ok()) << loaded.status().message();
     EXPECT_TRUE(ignored.empty());
     ASSERT_EQ(loaded->materials.size(), builtin->materials.size());
@@ -140,7 +141,7 @@ TEST(ExportTexels, NonFiniteExactTexelsAreRefused) {
     }
     std::ofstream(bin, std::ios::binary)
         .write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
-    Result<Scene> loaded = load_gltf(gltf);
+    Result<Scene> loaded = load_scene(gltf);
     ASSERT_FALSE(loaded.ok()) << format;
     EXPECT_NE(loaded.status().message().find("is not finite"), std::string::npos)
         << loaded.status().message();
@@ -151,7 +152,7 @@ TEST(ExportTexels, NonFiniteExactTexelsAreRefused) {
     ++checked;
   }
   EXPECT_GE(checked, 2);  // a float and a half format at least
-  EXPECT_TRUE(load_gltf(gltf).ok());
+  EXPECT_TRUE(load_scene(gltf).ok());
 }
 
 INSTANTIATE_TEST_SUITE_P(Builtins, ExportRoundTrip, ::testing::ValuesIn(builtin_names()),

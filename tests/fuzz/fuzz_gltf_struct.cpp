@@ -4,7 +4,7 @@
 // samplers, images, node hierarchies up to 20,000 deep, projective matrices, scene indices), and
 // whose URIs name what an attacker would: special files (a FIFO, /dev/zero, /dev/urandom, a
 // folder), paths out of the scene's folder (`../`, absolute, percent-encoded, `file:`, a symlink
-// that leaves it) and data URIs of random bytes. load_gltf must give a Scene or a one-line error,
+// that leaves it) and data URIs of random bytes. load_scene must give a Scene or a one-line error,
 // never crash, hang (libFuzzer's -timeout) or leak; and it must not read the file outside the
 // scene's folder: a scene that loads holds no vertex whose bytes come from that file.
 #include <fuzzer/FuzzedDataProvider.h>
@@ -19,6 +19,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "render/validate.h"
 #include "scene/gltf.h"
 #include "scene/image_io.h"
 
@@ -333,7 +334,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     std::ofstream f(file, std::ios::binary | std::ios::trunc);
     f << doc.dump(-1, ' ', false, json::error_handler_t::replace);
   }
-  relief::Result<relief::Scene> scene = relief::load_gltf(file.string());
+  relief::Result<relief::Scene> scene = relief::load_scene(file.string());
   if (!scene.ok()) {
     const std::string& m = scene.status().message();
     if (m.empty() || m.find('\n') != std::string::npos) __builtin_trap();

@@ -10,6 +10,7 @@
 #include "gl/gl_backend.h"
 #include "render/compare.h"
 #include "render/render.h"
+#include "render/validate.h"
 #include "scene/gltf.h"
 #include "tests/gl/gl_test_util.h"
 #include "tests/materials_fixture.h"
@@ -71,7 +72,7 @@ Backend* gl_backend() {
 
 void expect_agreement(const std::string& path, const std::string& label) {
   SCOPED_TRACE(label);
-  Result<Scene> scene = load_gltf(path);
+  Result<Scene> scene = load_scene(path);
   ASSERT_TRUE(scene.ok()) << scene.status().message();
   RenderOptions opt;
   opt.width = kSize;

@@ -10,6 +10,7 @@
 #include "builtin/builtin.h"
 #include "gl/gl_backend.h"
 #include "render/render.h"
+#include "render/validate.h"
 #include "scene/gltf.h"
 #include "tests/gl/gl_test_util.h"
 #include "tests/test_dir.h"
@@ -28,7 +29,7 @@ TEST(ExportRoundTripGl, ImpostorAndBendingRenderAsTheBuiltinsOnGl) {
     ASSERT_TRUE(builtin.ok());
     const std::string file = (dir / (std::string(name) + ".glb")).string();
     ASSERT_TRUE(save_gltf(*builtin, file).ok());
-    Result<Scene> loaded = load_gltf(file);
+    Result<Scene> loaded = load_scene(file);
     ASSERT_TRUE(loaded.ok()) << loaded.status().message();
     RenderOptions opt;
     opt.width = opt.height = 64;

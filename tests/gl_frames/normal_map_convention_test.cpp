@@ -26,6 +26,7 @@
 #include "gl/gl_backend.h"
 #include "render/compare.h"
 #include "render/render.h"
+#include "render/validate.h"
 #include "scene/gltf.h"
 #include "scene/mesh_prep.h"
 #include "tests/gl/gl_test_util.h"
@@ -123,7 +124,7 @@ struct Backends {
 };
 
 Image render_file(Backend& backend, const std::string& path, int size) {
-  Result<Scene> s = load_gltf(path);
+  Result<Scene> s = load_scene(path);
   EXPECT_TRUE(s.ok()) << s.status().message();
   if (!s.ok()) return Image(size, size);
   RenderOptions opt;
@@ -283,7 +284,7 @@ TEST(NormalMapConvention, ReliefOnAFileWithTangentMatchesComputedTangents) {
     const ImageDiff diff = compare_images(a, c);
     EXPECT_GE(diff.psnr_db, 45.0);
     // the relief moves the checker: the same file drawn flat differs (so the test can fail)
-    Result<Scene> flat = load_gltf(without);
+    Result<Scene> flat = load_scene(without);
     ASSERT_TRUE(flat.ok());
     flat->materials[0].params["depth_scale"] = 0.0f;
     RenderOptions opt;

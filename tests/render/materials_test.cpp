@@ -8,6 +8,7 @@
 #include <glm/geometric.hpp>
 
 #include "render/render.h"
+#include "render/validate.h"
 #include "scene/gltf.h"
 #include "tests/materials_fixture.h"
 #include "tests/test_dir.h"
@@ -28,7 +29,7 @@ struct Frame {
 
 Frame render_file(const std::string& path, const std::string& technique = "", AovMask aovs = 0) {
   Frame f;
-  Result<Scene> s = load_gltf(path);
+  Result<Scene> s = load_scene(path);
   EXPECT_TRUE(s.ok()) << s.status().message();
   if (!s.ok()) return f;
   f.scene = std::move(*s);
@@ -198,7 +199,7 @@ TEST(Materials, TexCoord1IsUsedByTheTexturesThatNameIt) {
                  "quadrant " + std::to_string(q));
   }
   // a texture naming TEXCOORD_1 on a primitive without it: one line naming both
-  Result<Scene> bad = load_gltf(no_uv1);
+  Result<Scene> bad = load_scene(no_uv1);
   ASSERT_FALSE(bad.ok());
   EXPECT_NE(bad.status().message().find("TEXCOORD_1"), std::string::npos) << bad.status().message();
   EXPECT_NE(bad.status().message().find("/materials/0/pbrMetallicRoughness/baseColorTexture"),
@@ -296,7 +297,7 @@ TEST(Materials, SingularMainTextureTransformIsRefused) {
   test::use_extension(d, "KHR_texture_transform");
   d.texture("base", kQuad);
   d.texture("emissive", kGreys);
-  Result<Scene> s = load_gltf(d.write("singular"));
+  Result<Scene> s = load_scene(d.write("singular"));
   ASSERT_FALSE(s.ok());
   EXPECT_NE(s.status().message().find("singular"), std::string::npos) << s.status().message();
   EXPECT_NE(s.status().message().find("/materials/0/pbrMetallicRoughness/baseColorTexture"),
@@ -353,7 +354,7 @@ TEST(Materials, ExportKeepsTheMaterialFeatures) {
   test::use_extension(d, "KHR_materials_unlit");
   Frame u = render_file(d.write("unlit"));
   ASSERT_TRUE(save_gltf(u.scene, (dir / "unlit_out.gltf").string()).ok());
-  Result<Scene> ur = load_gltf((dir / "unlit_out.gltf").string());
+  Result<Scene> ur = load_scene((dir / "unlit_out.gltf").string());
   ASSERT_TRUE(ur.ok()) << ur.status().message();
   EXPECT_TRUE(ur->materials.at(0).unlit);
 }

@@ -14,6 +14,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "render/validate.h"
 #include "scene/gltf.h"
 #include "scene/gltf_extensions.h"
 #include "tests/test_dir.h"
@@ -485,7 +486,7 @@ TEST(SupportTable, EveryRowHoldsTrue) {
     std::vector<GltfIgnored> ignored;
     GltfLoadOptions opt;
     opt.ignored = &ignored;
-    Result<Scene> s = load_gltf(file, opt);
+    Result<Scene> s = load_scene(file, opt);
     std::string lines;
     for (const GltfIgnored& g : ignored)
       if (g.warn) lines += ignored_line(file, g) + "\n";
@@ -502,7 +503,7 @@ TEST(SupportTable, EveryRowHoldsTrue) {
       // --strict: the same line is the error.
       GltfLoadOptions strict;
       strict.strict = true;
-      Result<Scene> st = load_gltf(file, strict);
+      Result<Scene> st = load_scene(file, strict);
       ok = ok && !st.ok();
       EXPECT_FALSE(st.ok()) << "--strict accepted it";
       if (!st.ok()) EXPECT_NE(st.status().message().find(token), std::string::npos);
@@ -554,7 +555,7 @@ TEST(ExtensionWarnings, OneLinePerExtensionNamingIt) {
   std::vector<GltfIgnored> ignored;
   GltfLoadOptions opt;
   opt.ignored = &ignored;
-  ASSERT_TRUE(load_gltf(file, opt).ok());
+  ASSERT_TRUE(load_scene(file, opt).ok());
   std::vector<std::string> lines;
   for (const GltfIgnored& g : ignored)
     if (g.warn) lines.push_back(ignored_line(file, g));
@@ -580,7 +581,7 @@ TEST(ExtensionWarnings, ExtrasAreNotScanned) {
   std::vector<GltfIgnored> ignored;
   GltfLoadOptions opt;
   opt.ignored = &ignored;
-  ASSERT_TRUE(load_gltf(d.write(dir, "s"), opt).ok());
+  ASSERT_TRUE(load_scene(d.write(dir, "s"), opt).ok());
   EXPECT_TRUE(ignored.empty());
 }
 

@@ -3,6 +3,7 @@
 
 #include <string>
 
+#include "render/validate.h"
 #include "scene/gltf.h"
 
 namespace relief {
@@ -13,7 +14,7 @@ namespace {
 TEST(GltfFuzzRegression, ImageBufferViewOutsideItsBufferIsAnError) {
   const std::string file =
       std::string(RELIEF_SOURCE_DIR) + "/tests/scene/data/fuzz-image-view-outside-buffer.glb";
-  Result<Scene> s = load_gltf(file);
+  Result<Scene> s = load_scene(file);
   ASSERT_FALSE(s.ok());
   const std::string& m = s.status().message();
   EXPECT_EQ(m.find('\n'), std::string::npos) << m;

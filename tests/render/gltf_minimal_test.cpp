@@ -7,6 +7,7 @@
 #include <fstream>
 #include <string>
 
+#include "render/validate.h"
 #include "scene/gltf.h"
 
 namespace relief {
@@ -21,7 +22,7 @@ TEST(GltfMinimal, FileWithoutExtensionsLoads) {
                   "min":[0,0,0],"max":[1,1,0]}],
     "bufferViews":[{"buffer":0,"byteLength":36}],
     "buffers":[{"byteLength":36,"uri":"data:application/octet-stream;base64,AAAAAAAAAAAAAAAAAACAPwAAAAAAAAAAAAAAAAAAgD8AAAAA"}]})";
-  Result<Scene> s = load_gltf(path);
+  Result<Scene> s = load_scene(path);
   ASSERT_TRUE(s.ok()) << s.status().message();
   ASSERT_EQ(s->meshes.size(), 1u);
   EXPECT_EQ(s->meshes[0].indices.size(), 3u);

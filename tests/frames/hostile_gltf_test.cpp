@@ -13,6 +13,7 @@
 #include <nlohmann/json.hpp>
 
 #include "plugins/registry.h"
+#include "render/validate.h"
 #include "scene/gltf.h"
 #include "scene/gltf_validate.h"
 #include "scene/scene.h"
@@ -67,7 +68,7 @@ class HostileGltf : public ::testing::Test {
   // load_gltf fails with one line "<file>: <pointer>: ...<what>...", under 300 characters.
   void expect_error(const json& j, const std::string& pointer, const std::string& what) {
     const std::string f = write(j, "bad.gltf");
-    Result<Scene> r = load_gltf(f);
+    Result<Scene> r = load_scene(f);
     ASSERT_FALSE(r.ok()) << "loaded: " << j.dump().substr(0, 300);
     const std::string& m = r.status().message();
     EXPECT_EQ(m.find('\n'), std::string::npos) << m;
@@ -77,7 +78,7 @@ class HostileGltf : public ::testing::Test {
     EXPECT_EQ(r.status().exit_code(), 1);
   }
   void expect_loads(const json& j) {
-    Result<Scene> r = load_gltf(write(j, "good.gltf"));
+    Result<Scene> r = load_scene(write(j, "good.gltf"));
     EXPECT_TRUE(r.ok()) << r.status().message();
   }
   fs::path dir_;
@@ -86,7 +87,7 @@ class HostileGltf : public ::testing::Test {
 // ---- defect 1: deep hierarchies ----
 
 TEST_F(HostileGltf, HierarchyAtTheDepthLimitLoads) {
-  Result<Scene> r = load_gltf(write(chain(kMaxNodeDepth), "at_limit.gltf"));
+  Result<Scene> r = load_scene(write(chain(kMaxNodeDepth), "at_limit.gltf"));
   ASSERT_TRUE(r.ok()) << r.status().message();
   EXPECT_EQ(r->instances.size(), 1u);
 }
@@ -160,7 +161,7 @@ TEST_F(HostileGltf, DeepJsonNestingIsRefusedBeforeParsing) {
   text.pop_back();  // the closing brace
   text += ",\"extras\":" + std::string(100000, '[') + std::string(100000, ']') + "}";
   const std::string f = write_text(text, "nested.gltf");
-  Result<Scene> r = load_gltf(f);
+  Result<Scene> r = load_scene(f);
   ASSERT_FALSE(r.ok());
   EXPECT_EQ(r.status().message().rfind(f + ": JSON nesting deeper than 512 levels", 0), 0u)
       << r.status().message();
@@ -175,7 +176,7 @@ TEST_F(HostileGltf, DeepJsonNestingIsRefusedBeforeParsing) {
       ",\"extras\":{\"s\":\"[[[[[[[[\\\"[[[[\","
       "\"d\":" +
       std::string(500, '[') + std::string(500, ']') + "}}";
-  Result<Scene> fine = load_gltf(write_text(ok, "ok.gltf"));
+  Result<Scene> fine = load_scene(write_text(ok, "ok.gltf"));
   EXPECT_TRUE(fine.ok()) << fine.status().message();
   EXPECT_TRUE(check_json_nesting(std::string(512, '{'), "x").ok());
   EXPECT_FALSE(check_json_nesting(std::string(513, '{'), "x").ok());
@@ -276,7 +277,7 @@ TEST_F(HostileGltf, EnumAndBoolParamsAreCheckedLikeTheCli) {
   expect_error(with({{"depth_scale", {1}}}), p + "depth_scale", "expected a number");
   for (const json& ok : {json{{"distance", "accurate"}}, json{{"distance", 1}},
                          json{{"offset_limiting", false}}, json{{"offset_limiting", 1}}}) {
-    Result<Scene> r = load_gltf(write(with(ok), "good.gltf"));
+    Result<Scene> r = load_scene(write(with(ok), "good.gltf"));
     ASSERT_TRUE(r.ok()) << ok.dump() << ": " << r.status().message();
     const auto& params = r->materials[0].params;
     const std::string key = ok.begin().key();
@@ -312,14 +313,14 @@ TEST_F(HostileGltf, GlbJsonChunkIsValidatedToo) {
     f << chunk;
     return path(name);
   };
-  ASSERT_TRUE(load_gltf(glb(triangle(), "ok.glb")).ok());
+  ASSERT_TRUE(load_scene(glb(triangle(), "ok.glb")).ok());
   json v = triangle();
   v["asset"]["version"] = "3.0";
-  Result<Scene> r = load_gltf(glb(v, "v3.glb"));
+  Result<Scene> r = load_scene(glb(v, "v3.glb"));
   ASSERT_FALSE(r.ok());
   EXPECT_EQ(r.status().message(),
             path("v3.glb") + ": /asset/version: glTF 3.0 is not supported (only glTF 2.x)");
-  Result<Scene> deep = load_gltf(glb(chain(7000), "deep.glb"));
+  Result<Scene> deep = load_scene(glb(chain(7000), "deep.glb"));
   ASSERT_FALSE(deep.ok());
   EXPECT_NE(deep.status().message().find(": /nodes/1024: node is 1025 levels deep"),
             std::string::npos)
@@ -444,7 +445,7 @@ TEST_F(HostileGltf, NodeMatrixMustBeAffineFiniteAndInvertible) {
   // Non-finite: JSON has no NaN, and 1e999 is a JSON error (number overflow).
   std::string text = with({12345, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1}).dump();
   text.replace(text.find("12345"), 5, "1e999");
-  Result<Scene> r = load_gltf(write_text(text, "inf.gltf"));
+  Result<Scene> r = load_scene(write_text(text, "inf.gltf"));
   ASSERT_FALSE(r.ok());
   EXPECT_NE(r.status().message().find("number overflow"), std::string::npos)
       << r.status().message();
@@ -530,7 +531,7 @@ TEST_F(HostileGltf, TooManyDeformedVertexCopiesAreRefused) {
   // The same count of plain instances shares one mesh.
   j["meshes"][0]["primitives"][0].erase("targets");
   const std::string f = write(j, "shared.gltf");
-  Result<Scene> r = load_gltf(f);
+  Result<Scene> r = load_scene(f);
   ASSERT_TRUE(r.ok()) << r.status().message();
   EXPECT_EQ(r->meshes.size(), 1u);
   EXPECT_EQ(r->instances.size(), 2731u);

@@ -23,6 +23,7 @@
 #include <glm/gtc/matrix_inverse.hpp>
 #include <nlohmann/json.hpp>
 
+#include "render/validate.h"
 #include "scene/animation.h"
 #include "scene/gltf.h"
 #include "tests/apps/cli_run.h"
@@ -183,14 +184,14 @@ fs::path write_plain(const fs::path& dir, const RefMesh& m) {
 }
 
 Corners reference_corners(const fs::path& dir, const RefMesh& m) {
-  Result<Scene> s = load_gltf(write_plain(dir, m).string());
+  Result<Scene> s = load_scene(write_plain(dir, m).string());
   EXPECT_TRUE(s.ok()) << s.status().message();
   return s.ok() ? corners(*s) : Corners{};
 }
 
 // The error of a load that must fail: one line under 300 characters naming the file.
 void expect_one_line_error(const fs::path& p, const std::string& must_contain) {
-  Result<Scene> s = load_gltf(p.string());
+  Result<Scene> s = load_scene(p.string());
   ASSERT_FALSE(s.ok()) << p;
   const std::string& msg = s.status().message();
   EXPECT_EQ(msg.find('\n'), std::string::npos) << msg;
@@ -260,7 +261,7 @@ TEST(GltfQuantization, ShortPositionsByteNormalsShortUvsMatchWithinTheStep) {
   const json doc = quantized_doc(m, bin, true);
   write_file(dir / "q.bin", bin);
   write_file(dir / "q.gltf", doc.dump());
-  Result<Scene> s = load_gltf((dir / "q.gltf").string());
+  Result<Scene> s = load_scene((dir / "q.gltf").string());
   ASSERT_TRUE(s.ok()) << s.status().message();
   const Corners got = corners(*s);
   EXPECT_LT(max_diff(got.p, ref.p), 0.5f / 4000.0f + 1e-5f);  // half a step of 1/4000
@@ -387,7 +388,7 @@ TEST(GltfMeshopt, GlbWithFallbackBufferDecodesToTheMesh) {
   const RefMesh m = grid();
   const Corners ref = reference_corners(dir, m);
   for (bool sequence : {false, true}) {
-    Result<Scene> s = load_gltf(write_meshopt(dir, m, {sequence, {}}).string());
+    Result<Scene> s = load_scene(write_meshopt(dir, m, {sequence, {}}).string());
     ASSERT_TRUE(s.ok()) << s.status().message();
     const Corners got = aligned(corners(*s), ref);
     EXPECT_EQ(max_diff(got.p, ref.p), 0.0f) << "positions are lossless";
@@ -450,7 +451,7 @@ TEST(GltfMeshopt, QuaternionFilteredRotationKeysDecode) {
            json::array({{{"sampler", 0}, {"target", {{"node", 0}, {"path", "rotation"}}}}})},
           {"samplers", json::array({{{"input", 4}, {"output", 5}}})}}});
   };
-  Result<Scene> s = load_gltf(write_meshopt(dir, grid(), {false, mutate}).string());
+  Result<Scene> s = load_scene(write_meshopt(dir, grid(), {false, mutate}).string());
   ASSERT_TRUE(s.ok()) << s.status().message();
   ASSERT_TRUE(s->animation);
   ASSERT_EQ(s->animation->clips.size(), 1u);
@@ -620,7 +621,7 @@ TEST(GltfDraco, SequentialStreamMatchesTheMeshWithinTheQuantizationStep) {
   const DracoFile f = draco_encode(m, true);
   write_file(dir / "d.bin", f.stream);
   write_file(dir / "d.gltf", draco_doc(f, "d.bin").dump());
-  Result<Scene> s = load_gltf((dir / "d.gltf").string());
+  Result<Scene> s = load_scene((dir / "d.gltf").string());
   ASSERT_TRUE(s.ok()) << s.status().message();
   const Corners got = corners(*s);
   // 14 bits over the largest extent (1): half a step is 3.1e-5.
@@ -631,7 +632,7 @@ TEST(GltfDraco, SequentialStreamMatchesTheMeshWithinTheQuantizationStep) {
   json doc = draco_doc(f, "");
   doc["buffers"][0].erase("uri");
   write_file(dir / "d.glb", glb(doc, f.stream));
-  Result<Scene> g = load_gltf((dir / "d.glb").string());
+  Result<Scene> g = load_scene((dir / "d.glb").string());
   ASSERT_TRUE(g.ok()) << g.status().message();
   EXPECT_EQ(max_diff(corners(*g).p, got.p), 0.0f);
 }
@@ -642,7 +643,7 @@ TEST(GltfDraco, EdgebreakerStreamHasTheMeshsCornersWithinTheStep) {
   const DracoFile f = draco_encode(m, false);
   write_file(dir / "d.bin", f.stream);
   write_file(dir / "d.gltf", draco_doc(f, "d.bin").dump());
-  Result<Scene> s = load_gltf((dir / "d.gltf").string());
+  Result<Scene> s = load_scene((dir / "d.gltf").string());
   ASSERT_TRUE(s.ok()) << s.status().message();
   const Corners got = corners(*s);
   ASSERT_EQ(got.p.size(), m.idx.size());  // the same triangles, in the coder's order
@@ -803,11 +804,11 @@ TEST(GltfWebp, ExtensionSourceIsDecodedLikeOpenImageIoAndFallbackIsUsedWithoutIt
   write_file(dir / "webp.gltf", webp_doc("fallback.png", "tex.webp", true).dump());
   write_file(dir / "decoded.gltf", webp_doc("decoded.png", "decoded.png", false).dump());
   write_file(dir / "fallback.gltf", webp_doc("fallback.png", "tex.webp", false).dump());
-  Result<Scene> webp = load_gltf((dir / "webp.gltf").string());
+  Result<Scene> webp = load_scene((dir / "webp.gltf").string());
   ASSERT_TRUE(webp.ok()) << webp.status().message();
-  Result<Scene> decoded = load_gltf((dir / "decoded.gltf").string());
+  Result<Scene> decoded = load_scene((dir / "decoded.gltf").string());
   ASSERT_TRUE(decoded.ok()) << decoded.status().message();
-  Result<Scene> fallback = load_gltf((dir / "fallback.gltf").string());
+  Result<Scene> fallback = load_scene((dir / "fallback.gltf").string());
   ASSERT_TRUE(fallback.ok()) << fallback.status().message();
   EXPECT_EQ(max_texel_diff(base_color(*webp), base_color(*decoded)), 0.0f);
   EXPECT_EQ(base_color(*fallback).fetch(0, 5, 5), glm::vec4(0, 0, 0, 1));
@@ -821,7 +822,7 @@ TEST(GltfWebp, ExtensionSourceIsDecodedLikeOpenImageIoAndFallbackIsUsedWithoutIt
   const std::string bytes((std::istreambuf_iterator<char>(f)), {});
   write_file(dir / "embedded.gltf",
              webp_doc("fallback.png", "data:image/webp;base64," + base64(bytes), true).dump());
-  Result<Scene> embedded = load_gltf((dir / "embedded.gltf").string());
+  Result<Scene> embedded = load_scene((dir / "embedded.gltf").string());
   ASSERT_TRUE(embedded.ok()) << embedded.status().message();
   EXPECT_EQ(max_texel_diff(base_color(*embedded), base_color(*decoded)), 0.0f);
 }

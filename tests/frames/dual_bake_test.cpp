@@ -9,6 +9,7 @@
 
 #include "bake/dual_depth_maps.h"
 #include "builtin/builtin_curved.h"
+#include "render/validate.h"
 #include "scene/gltf.h"
 #include "scene/image_io.h"
 #include "tests/apps/cli_run.h"
@@ -52,7 +53,7 @@ class DualBake : public ::testing::Test {
 
 TEST_F(DualBake, WritesTheLayersTheLibraryBakes) {
   ASSERT_EQ(bake("--dual " + mesh_ + " -o " + path("sph") + " --size 32 --threads 2"), 0) << out_;
-  Result<Scene> s = load_gltf(mesh_);
+  Result<Scene> s = load_scene(mesh_);
   ASSERT_TRUE(s.ok());
   const Mesh& m = s->meshes.at(0);
   const DualDepthMaps want = bake_dual_depth(m.positions, m.normals, m.indices, 32, 1.0f, 1);

@@ -18,6 +18,7 @@
 
 #include "builtin/builtin.h"
 #include "rasterizer/safe_file.h"
+#include "render/validate.h"
 #include "scene/gltf.h"
 #include "scene/image_io.h"
 #include "tests/scene/png_header.h"
@@ -80,7 +81,7 @@ class Hostile : public ::testing::Test {
   std::string expect_refused(const std::string& path, const std::string& what,
                              const GltfLoadOptions& o = {}) {
     Alarm alarm;
-    Result<Scene> s = load_gltf(path, o);
+    Result<Scene> s = load_scene(path, o);
     EXPECT_FALSE(s.ok()) << path;
     if (s.ok()) return "";
     const std::string& m = s.status().message();
@@ -202,7 +203,7 @@ TEST_F(Hostile, DotDotBufferUriIsRefusedAndAllowedByTheOption) {
   fs::copy_file(scene_ / "p.bin", dir_ / "outside.bin");
   const std::string path = with_buffer_uri("d.gltf", "../outside.bin");
   expect_refused(path, "/buffers/0/uri: '../outside.bin': leads outside the scene's folder");
-  Result<Scene> s = load_gltf(path, {true});
+  Result<Scene> s = load_scene(path, {true});
   EXPECT_TRUE(s.ok()) << s.status().message();
 }
 
@@ -227,7 +228,7 @@ TEST_F(Hostile, DotDotImageUriIsRefusedAndAllowedByTheOption) {
   fs::copy_file(scene_ / "p_bricks_base_color.png", dir_ / "outside.png");
   const std::string path = with_image_uri("d.gltf", "../outside.png");
   expect_refused(path, "/images/0/uri: '../outside.png': leads outside the scene's folder");
-  Result<Scene> s = load_gltf(path, {true});
+  Result<Scene> s = load_scene(path, {true});
   EXPECT_TRUE(s.ok()) << s.status().message();
 }
 
@@ -241,7 +242,7 @@ TEST_F(Hostile, PercentEncodedDotDotImageUriIsRefused) {
 
 TEST_F(Hostile, AbsoluteImageUriIsRefusedAndAllowedByTheOption) {
   const std::string abs = (scene_ / "p_bricks_base_color.png").string();
-  Result<Scene> s = load_gltf(with_image_uri("ok.gltf", abs), {true});
+  Result<Scene> s = load_scene(with_image_uri("ok.gltf", abs), {true});
   EXPECT_TRUE(s.ok()) << s.status().message();
   // Allowed outside, an absolute path still opens only regular files.
   expect_refused(with_image_uri("z.gltf", "/dev/zero"), "not a regular file (a character device)",
@@ -269,7 +270,7 @@ TEST_F(Hostile, SymlinkInsideTheFolderPointingOutsideIsRefused) {
   expect_refused(with_image_uri("l.gltf", "up/outside.png"), "leads outside the scene's folder");
   // A symlink that stays inside is fine.
   fs::create_symlink("p_bricks_base_color.png", scene_ / "inner.png");
-  Result<Scene> s = load_gltf(with_image_uri("i.gltf", "inner.png"));
+  Result<Scene> s = load_scene(with_image_uri("i.gltf", "inner.png"));
   EXPECT_TRUE(s.ok()) << s.status().message();
 }
 
