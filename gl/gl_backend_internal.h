@@ -121,8 +121,8 @@ static_assert(varying::kCountExtended <= kGlVaryings);
 // The texture and sampler objects per material and slot, and the exact twin's max-mip buffer.
 struct DrawTextures {
   std::vector<std::array<GLuint, kMaxTextureSlots>> tex, samplers;
-  // per material: emissive texture and sampler, occlusion texture and sampler
-  std::vector<std::array<GLuint, 4>> extra;
+  // per material: emissive, occlusion and metallic-roughness textures, each with its sampler
+  std::vector<std::array<GLuint, 6>> extra;
   std::vector<GLuint> fields;
 };
 

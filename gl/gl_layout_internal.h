@@ -10,10 +10,11 @@ namespace relief::gl_layout {
 
 // Texture units: the material's slots at 0 .. kMaxTextureSlots - 1 (common.glsl textures[]), one
 // shadow-map array per light from kShadowUnit (shadow_map.glsl shadow_depth[]), then the glTF
-// emissive and occlusion textures (common.glsl).
+// emissive, occlusion and metallic-roughness textures (common.glsl).
 inline constexpr int kShadowUnit = kMaxTextureSlots;
 inline constexpr int kEmissiveUnit = 16;
 inline constexpr int kOcclusionUnit = 17;
+inline constexpr int kMetallicRoughnessUnit = 18;
 static_assert(kShadowUnit + kMaxLights <= kEmissiveUnit, "shadow units overlap the emissive unit");
 
 // Storage-block bindings.

@@ -144,6 +144,8 @@ void GlBackend::bind_material(const Program& p, int mi, const Plan& plan,
   glBindSampler(kEmissiveUnit, textures.extra[mi][1]);
   glBindTextureUnit(kOcclusionUnit, textures.extra[mi][2]);
   glBindSampler(kOcclusionUnit, textures.extra[mi][3]);
+  glBindTextureUnit(kMetallicRoughnessUnit, textures.extra[mi][4]);
+  glBindSampler(kMetallicRoughnessUnit, textures.extra[mi][5]);
   if (p.height_field)
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kHeightFieldBinding, textures.fields[mi]);
   if (m.double_sided)

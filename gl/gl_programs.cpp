@@ -112,6 +112,12 @@ void set_gltf_material_terms(GLuint p, const MaterialUniforms& m) {
     set_uv_map(p, "material.uv_maps[" + std::to_string(i) + "]", m.uv_maps[i]);
   set_uv_map(p, "material.emissive_uv", m.emissive_uv);
   set_uv_map(p, "material.occlusion_uv", m.occlusion_uv);
+  set_uv_map(p, "material.metallic_roughness_uv", m.metallic_roughness_uv);
+  glProgramUniform1i(p, glGetUniformLocation(p, "material.shading"), static_cast<GLint>(m.shading));
+  glProgramUniform1f(p, glGetUniformLocation(p, "material.metallic"), m.metallic);
+  glProgramUniform1f(p, glGetUniformLocation(p, "material.roughness"), m.roughness);
+  glProgramUniform1i(p, glGetUniformLocation(p, "material.has_metallic_roughness_texture"),
+                     m.metallic_roughness_texture ? 1 : 0);
   glProgramUniform3fv(p, glGetUniformLocation(p, "material.emissive"), 1, &m.emissive[0]);
   glProgramUniform1i(p, glGetUniformLocation(p, "material.has_emissive_texture"),
                      m.emissive_texture ? 1 : 0);

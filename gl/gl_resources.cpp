@@ -308,7 +308,7 @@ Status GlBackend::upload_textures(const Plan& plan, const FramePrograms& program
   textures.tex.resize(nm);
   textures.samplers.resize(nm);
   textures.fields.assign(nm, 0);
-  textures.extra.assign(nm, {0, 0, 0, 0});
+  textures.extra.assign(nm, {0, 0, 0, 0, 0, 0});
   for (size_t mi = 0; mi < nm; ++mi) {
     if (!programs.main[mi] && !programs.shadow[mi]) continue;
     RELIEF_RETURN_IF_ERROR(
@@ -327,6 +327,10 @@ Status GlBackend::upload_material_textures(const BoundMaterial& m, size_t mi,
   if (const Texture* t = m.uniforms.occlusion_texture; t && !t->empty()) {
     textures.extra[mi][2] = texture_for(t, m, Upload::kNative, transients.textures);
     textures.extra[mi][3] = sampler_for(m.uniforms.occlusion_sampler);
+  }
+  if (const Texture* t = m.uniforms.metallic_roughness_texture; t && !t->empty()) {
+    textures.extra[mi][4] = texture_for(t, m, Upload::kNative, transients.textures);
+    textures.extra[mi][5] = sampler_for(m.uniforms.metallic_roughness_sampler);
   }
   for (int s = 0; s < kMaxTextureSlots; ++s) {
     const Texture* t = m.uniforms.textures[s];

@@ -262,7 +262,7 @@ struct ReliefKernel {
       return o;
     } else {
       const V3<F> n = sample_normal_map(m, kNormalSlot, tf, hit.uv, in, F(1.0f), o.fetches);
-      const V3<F> albedo = sample_albedo(m, kBaseColorSlot, hit.uv, in, o.fetches, &o.alpha);
+      const SurfaceColor<F> sc = sample_surface(m, kBaseColorSlot, hit.uv, in, o.fetches, &o.alpha);
       // lighting at the displaced point: self-shadow ray, then the light's shadow map (lit lanes)
       auto visibility = [&](int i, V3<F> l, mask_t<F> lit) -> F {
         F vis(1.0f);
@@ -280,8 +280,8 @@ struct ReliefKernel {
         }
         return vis;
       };
-      o.color = finish_surface(ctx, in, hit.uv, albedo, o.fetches, [&] {
-        return blinn_phong(*ctx.frame, m, pos, n, -w, albedo, visibility);
+      o.color = finish_surface(ctx, in, hit.uv, sc.albedo, o.fetches, [&] {
+        return shade_direct(*ctx.frame, m, pos, n, -w, sc, visibility);
       });
       o.shading_normal = n;
       return o;

@@ -1,6 +1,7 @@
-// Surface reads every shading plugin shares: the base colour and the tangent-space normal map at a
-// texture coordinate, with the quad's uv derivatives (texture_grad), and Blinn-Phong lighting with
-// or without the lights' shadow maps. flat, normal and the relief shell (plugins/relief_shell.h)
+// Surface reads every shading plugin shares: the base colour (and metallic and roughness) and the
+// tangent-space normal map at a texture coordinate, with the quad's uv derivatives (texture_grad),
+// and the material's lighting (Blinn-Phong or metallic-roughness) with or without the lights'
+// shadow maps. flat, normal and the relief shell (plugins/relief_shell.h)
 // call these, so the slot conventions and the fetch counts are the same everywhere.
 
 #if defined(RELIEF_PLUGINS_SURFACE_H_) == defined(HWY_TARGET_TOGGLE)
@@ -86,6 +87,23 @@ V3<F> sample_albedo(const MaterialUniforms& m, int slot, const V2<F>& uv, const 
   return albedo;
 }
 
+// sample_albedo, and for a metallic-roughness material its metallic and roughness factors times
+// the metallicRoughness texture's blue and green channels at uv (when bound: one more fetch).
+template <class F>
+SurfaceColor<F> sample_surface(const MaterialUniforms& m, int slot, const V2<F>& uv,
+                               const FragIn<F>& in, F& fetches, F* alpha = nullptr) {
+  SurfaceColor<F> s{sample_albedo(m, slot, uv, in, fetches, alpha), F(m.metallic), F(m.roughness)};
+  if (m.shading != ShadingModel::kMetallicRoughness) return s;
+  if (const Texture* t = m.metallic_roughness_texture) {
+    const SlotUv<F> su = map_uv(m.metallic_roughness_uv, uv, in);
+    const V4<F> c = texture_grad_call(*t, m.metallic_roughness_sampler, su.uv, su.dx, su.dy);
+    s.roughness = s.roughness * c.y;
+    s.metallic = s.metallic * c.z;
+    fetches += F(1.0f);
+  }
+  return s;
+}
+
 // The fragment's alpha alone, as sample_albedo computes it, for passes that need no colour (the
 // shadow passes of MASK materials); adds one fetch when the texture is bound.
 template <class F>
@@ -126,16 +144,17 @@ V3<F> to_eye(const FrameUniforms& frame, const V3<F>& p) {
   return frame.orthographic ? V3<F>(-frame.view_dir) : normalize(V3<F>(frame.eye) - p);
 }
 
-// Blinn-Phong at p for the frame's lights; with kReceive, each light's shadow map (if it has one)
-// is compared against the plane through p with normal `receiver_n` (counted into `fetches`).
+// The material's lighting (shade_direct) at p for the frame's lights; with kReceive, each light's
+// shadow map (if it has one) is compared against the plane through p with normal `receiver_n`
+// (counted into `fetches`).
 template <bool kReceive, class F>
 V3<F> shade_lights(const ShadeContext& ctx, const V3<F>& p, const V3<F>& n, const V3<F>& receiver_n,
-                   const V3<F>& v, const V3<F>& albedo, F& fetches) {
+                   const V3<F>& v, const SurfaceColor<F>& surface, F& fetches) {
   if constexpr (kReceive)
-    return blinn_phong(*ctx.frame, *ctx.material, p, n, v, albedo,
-                       ShadowMapReceiver<F>{*ctx.frame, p, receiver_n, fetches});
+    return shade_direct(*ctx.frame, *ctx.material, p, n, v, surface,
+                        ShadowMapReceiver<F>{*ctx.frame, p, receiver_n, fetches});
   else
-    return blinn_phong(*ctx.frame, *ctx.material, p, n, v, albedo, NoShadow<F>());
+    return shade_direct(*ctx.frame, *ctx.material, p, n, v, surface, NoShadow<F>());
 }
 
 // The material-wide terms of every plugin's final colour (glTF): `lit()` (the lit colour of

@@ -270,6 +270,15 @@ void bind_surface(const Material& m, BoundMaterial& b) {
     b.uniforms.emissive_uv = m.emissive_uv;
     b.keep_alive.push_back(m.emissive_texture);
   }
+  b.uniforms.shading = m.shading;
+  b.uniforms.metallic = m.metallic;
+  b.uniforms.roughness = m.roughness;
+  if (m.shading == ShadingModel::kMetallicRoughness && m.metallic_roughness_texture) {
+    b.uniforms.metallic_roughness_texture = m.metallic_roughness_texture.get();
+    b.uniforms.metallic_roughness_sampler = m.sampler;
+    b.uniforms.metallic_roughness_uv = m.metallic_roughness_uv;
+    b.keep_alive.push_back(m.metallic_roughness_texture);
+  }
   if (m.occlusion_texture && m.occlusion_strength != 0.0f) {
     b.uniforms.occlusion_texture = m.occlusion_texture.get();
     b.uniforms.occlusion_sampler = m.sampler;
@@ -279,7 +288,12 @@ void bind_surface(const Material& m, BoundMaterial& b) {
   }
   b.uniforms.normal_scale = m.normal_scale;
   b.uniforms.unlit = m.unlit;
-  if (m.unlit) b.reasons.push_back("unlit: base colour only (KHR_materials_unlit)");
+  if (m.unlit)
+    b.reasons.push_back("unlit: base colour only (KHR_materials_unlit)");
+  else if (m.shading == ShadingModel::kMetallicRoughness)
+    b.reasons.push_back("shading: glTF metallic-roughness (metallic " + short_number(m.metallic) +
+                        ", roughness " + short_number(m.roughness) +
+                        (b.uniforms.metallic_roughness_texture ? ", times its texture)" : ")"));
   b.uniforms.base_color = m.base_color;
   b.uniforms.specular = m.specular;
   b.uniforms.shininess = m.shininess;

@@ -30,7 +30,7 @@ constexpr ExtensionInfo kTable[] = {
     {"KHR_materials_emissive_strength", S::kSupported, "scales emissiveFactor"},
     {"KHR_materials_unlit", S::kSupported, "base colour only, no lighting"},
     {"KHR_materials_clearcoat", S::kIgnored, "no clear coat layer"},
-    {"KHR_materials_ior", S::kIgnored, "relief shades Blinn-Phong: no index of refraction"},
+    {"KHR_materials_ior", S::kIgnored, "the core BRDF's IOR 1.5 (f0 0.04)"},
     {"KHR_materials_iridescence", S::kIgnored, "no thin-film iridescence"},
     {"KHR_materials_sheen", S::kIgnored, "no sheen layer"},
     {"KHR_materials_specular", S::kIgnored, "specular is RELIEF_relief_mapping's"},
@@ -215,7 +215,7 @@ void unsupported_extensions(const json& doc, std::vector<GltfIgnored>& out) {
   }
 }
 
-// Core material properties relief does not shade with (Blinn-Phong, not metallic-roughness).
+// Core material properties a Blinn-Phong material does not shade with (metallic-roughness).
 // `sampler_users` gets the materials each sampler's textures serve.
 void ignored_material_properties(const json& doc, std::map<int, std::set<int>>& sampler_users,
                                  std::vector<GltfIgnored>& out) {
@@ -228,16 +228,21 @@ void ignored_material_properties(const json& doc, std::map<int, std::set<int>>& 
     if (!m.is_object()) continue;
     const std::string mp = "/materials/" + std::to_string(mi);
     std::vector<std::string> props;
-    bool ours = false;
+    // Only a material RELIEF_relief_mapping lights with Blinn-Phong ignores them ("shading":
+    // "blinn_phong", or specular or shininess and no "shading": gltf_read_materials.cpp).
+    bool blinn_phong = false;
     if (auto ex = m.find("extensions"); ex != m.end() && ex->is_object())
-      ours = ex->contains("RELIEF_relief_mapping");
-    if (auto pbr = m.find("pbrMetallicRoughness"); pbr != m.end() && pbr->is_object()) {
+      if (auto r = ex->find("RELIEF_relief_mapping"); r != ex->end() && r->is_object())
+        blinn_phong = r->contains("shading") ? (*r)["shading"] == "blinn_phong"
+                                             : r->contains("specular") || r->contains("shininess");
+    if (auto pbr = m.find("pbrMetallicRoughness");
+        blinn_phong && pbr != m.end() && pbr->is_object()) {
       if (pbr->contains("metallicRoughnessTexture")) props.push_back("metallicRoughnessTexture");
       // Our export writes metallicFactor 0 with the extension's Blinn-Phong terms.
       if (auto f = pbr->find("metallicFactor");
-          f != pbr->end() && !(ours && f->is_number() && f->get<double>() == 0.0))
+          f != pbr->end() && !(f->is_number() && f->get<double>() == 0.0))
         props.push_back("metallicFactor");
-      if (pbr->contains("roughnessFactor") && !ours) props.push_back("roughnessFactor");
+      if (pbr->contains("roughnessFactor")) props.push_back("roughnessFactor");
     }
     if (!props.empty()) {
       GltfIgnored g;
@@ -247,8 +252,8 @@ void ignored_material_properties(const json& doc, std::map<int, std::set<int>>& 
       for (const std::string& p : props) names += (names.empty() ? "" : ", ") + p;
       g.feature = names;
       g.what = names +
-               " ignored (relief shades Blinn-Phong: RELIEF_relief_mapping specular, "
-               "shininess)";
+               " ignored (RELIEF_relief_mapping lights this material with Blinn-Phong: "
+               "specular, shininess)";
       out.push_back(std::move(g));
     }
     std::set<int> texs;

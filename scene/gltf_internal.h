@@ -35,6 +35,7 @@ using json = nlohmann::json;
 inline constexpr const char* kTextureTransform = "KHR_texture_transform";
 inline constexpr const char* kEmissiveStrength = "KHR_materials_emissive_strength";
 inline constexpr const char* kUnlit = "KHR_materials_unlit";
+inline constexpr const char* kMetallicRoughnessSlot = "metallic_roughness";  // a material-wide slot
 inline constexpr const char* kLightsPunctual = "KHR_lights_punctual";
 inline constexpr double kPi = 3.14159265358979323846;
 

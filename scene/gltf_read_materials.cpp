@@ -120,6 +120,25 @@ Status Reader::read_core_material(const tinygltf::Material& gm, const std::strin
     if (!r.ok()) return r.status();
     slots.push_back({"base_color", *r, TexUse::kColor});
   }
+  // metallic-roughness (plugins/surface.h sample_surface); RELIEF_relief_mapping may ask for
+  // Blinn-Phong instead (read_relief_material)
+  mat.shading = ShadingModel::kMetallicRoughness;
+  const std::string pbr = mp + "/pbrMetallicRoughness";
+  const double metallic = gm.pbrMetallicRoughness.metallicFactor;
+  const double roughness = gm.pbrMetallicRoughness.roughnessFactor;
+  if (!std::isfinite(metallic) || metallic < 0.0 || metallic > 1.0)
+    return fail(pbr + "/metallicFactor", "expected a number in [0, 1], got " + fmt(metallic));
+  if (!std::isfinite(roughness) || roughness < 0.0 || roughness > 1.0)
+    return fail(pbr + "/roughnessFactor", "expected a number in [0, 1], got " + fmt(roughness));
+  mat.metallic = static_cast<float>(metallic);
+  mat.roughness = static_cast<float>(roughness);
+  const auto& mrt = gm.pbrMetallicRoughness.metallicRoughnessTexture;
+  if (mrt.index >= 0) {
+    Result<TexRef> r = tex_ref(mrt.index, mrt.texCoord, mrt.extensions_json_string,
+                               pbr + "/metallicRoughnessTexture");
+    if (!r.ok()) return r.status();
+    slots.push_back({kMetallicRoughnessSlot, *r, TexUse::kLinear});
+  }
   if (gm.normalTexture.index >= 0) {
     const std::string p = mp + "/normalTexture";
     if (!std::isfinite(gm.normalTexture.scale) || std::abs(gm.normalTexture.scale) > 1e6)
@@ -185,12 +204,28 @@ Status Reader::read_khr_material_extensions(const tinygltf::Material& gm, const 
 Status Reader::read_relief_material(const json& e, const std::string& ep, Material& mat,
                                     std::vector<TextureSlot>& slots, bool& normal_from_depth,
                                     int& max_aniso) const {
-  RELIEF_RETURN_IF_ERROR(check_keys(
-      e, ep, {"technique",      "depth_texture",   "depth_is_height",    "normal_from_depth",
-              "cone_texture",   "cone_kind",       "depth_scale",        "steps",
-              "binary_steps",   "self_shadow",     "depth_write",        "silhouette",
-              "casts_shadow",   "receives_shadow", "specular",           "shininess",
-              "max_anisotropy", "params",          "depth_back_texture", "normal_back_texture"}));
+  RELIEF_RETURN_IF_ERROR(check_keys(e, ep,
+                                    {"technique",
+                                     "depth_texture",
+                                     "depth_is_height",
+                                     "normal_from_depth",
+                                     "cone_texture",
+                                     "cone_kind",
+                                     "depth_scale",
+                                     "steps",
+                                     "binary_steps",
+                                     "self_shadow",
+                                     "depth_write",
+                                     "silhouette",
+                                     "casts_shadow",
+                                     "receives_shadow",
+                                     "specular",
+                                     "shininess",
+                                     "shading",
+                                     "max_anisotropy",
+                                     "params",
+                                     "depth_back_texture",
+                                     "normal_back_texture"}));
   mat.technique = "relief";
   if (e.contains("technique")) {
     if (!e["technique"].is_string() || e["technique"].get<std::string>().empty())
@@ -206,6 +241,20 @@ Status Reader::read_relief_material(const json& e, const std::string& ep, Materi
   RELIEF_RETURN_IF_ERROR(get_bool(e, "silhouette", ep, mat.silhouette));
   RELIEF_RETURN_IF_ERROR(get_bool(e, "casts_shadow", ep, mat.casts_shadow));
   RELIEF_RETURN_IF_ERROR(get_bool(e, "receives_shadow", ep, mat.receives_shadow));
+  // "shading": "blinn_phong" | "metallic_roughness"; a file that gives specular or shininess and
+  // no shading was written for Blinn-Phong (relief before metallic-roughness) and keeps it.
+  if (e.contains("shading")) {
+    const json& sh = e["shading"];
+    if (sh == "blinn_phong")
+      mat.shading = ShadingModel::kBlinnPhong;
+    else if (sh == "metallic_roughness")
+      mat.shading = ShadingModel::kMetallicRoughness;
+    else
+      return fail(ep + "/shading",
+                  "expected \"blinn_phong\" or \"metallic_roughness\", got " + sh.dump());
+  } else if (e.contains("specular") || e.contains("shininess")) {
+    mat.shading = ShadingModel::kBlinnPhong;
+  }
   double specular = mat.specular, shininess = mat.shininess;
   RELIEF_RETURN_IF_ERROR(get_number(e, "specular", ep, specular, 0.0, 1e6));
   RELIEF_RETURN_IF_ERROR(get_number(e, "shininess", ep, shininess, 0.0, 1e6));
@@ -350,6 +399,8 @@ Status Reader::load_material_textures(const std::vector<TextureSlot>& slots, Mat
       mat.emissive_uv = map;
     else if (s.name == "occlusion")
       mat.occlusion_uv = map;
+    else if (s.name == kMetallicRoughnessSlot)
+      mat.metallic_roughness_uv = map;
     else if (!map.identity)
       mat.uv_maps[s.name] = map;
     bool mipmapped = true;
@@ -370,6 +421,8 @@ Status Reader::load_material_textures(const std::vector<TextureSlot>& slots, Mat
       mat.emissive_texture = *tex;
     else if (s.name == "occlusion")
       mat.occlusion_texture = *tex;
+    else if (s.name == kMetallicRoughnessSlot)
+      mat.metallic_roughness_texture = *tex;
     else
       mat.textures[s.name] = *tex;
   }

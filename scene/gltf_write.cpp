@@ -352,6 +352,32 @@ class Writer {
     return it == m.uv_maps.end() ? UvMap() : it->second;
   }
 
+  // pbrMetallicRoughness: base colour, and the metallic-roughness terms of a material lit by them
+  // (a Blinn-Phong material writes metallicFactor 0: a viewer without RELIEF_relief_mapping then
+  // shows a dielectric).
+  Result<ojson> pbr_json(const Material& m, const std::string& label) {
+    ojson pbr = {{"baseColorFactor", vec_json(&m.base_color[0], 4)}};
+    if (auto it = m.textures.find("base_color"); it != m.textures.end()) {
+      Result<ojson> ti =
+          texture_info(m, it->second, label + "_base_color", slot_map(m, "base_color"));
+      if (!ti.ok()) return ti.status();
+      pbr["baseColorTexture"] = *ti;
+    }
+    if (m.shading == ShadingModel::kBlinnPhong) {
+      pbr["metallicFactor"] = 0.0;
+      return pbr;
+    }
+    pbr["metallicFactor"] = shortest(m.metallic);
+    pbr["roughnessFactor"] = shortest(m.roughness);
+    if (m.metallic_roughness_texture) {
+      Result<ojson> ti = texture_info(m, m.metallic_roughness_texture,
+                                      label + "_metallic_roughness", m.metallic_roughness_uv);
+      if (!ti.ok()) return ti.status();
+      pbr["metallicRoughnessTexture"] = *ti;
+    }
+    return pbr;
+  }
+
   Status write_materials() {
     doc_["materials"] = ojson::array();
     for (size_t i = 0; i < s_.materials.size(); ++i) {
@@ -362,14 +388,9 @@ class Writer {
             slot != "normal_back" && slot.rfind("cone_", 0) != 0)
           return fail("material '" + label + "': texture slot '" + slot + "' has no glTF form");
       ojson gm = {{"name", m.name}};
-      ojson pbr = {{"baseColorFactor", vec_json(&m.base_color[0], 4)}, {"metallicFactor", 0.0}};
-      if (auto it = m.textures.find("base_color"); it != m.textures.end()) {
-        Result<ojson> ti =
-            texture_info(m, it->second, label + "_base_color", slot_map(m, "base_color"));
-        if (!ti.ok()) return ti.status();
-        pbr["baseColorTexture"] = *ti;
-      }
-      gm["pbrMetallicRoughness"] = pbr;
+      Result<ojson> pbr = pbr_json(m, label);
+      if (!pbr.ok()) return pbr.status();
+      gm["pbrMetallicRoughness"] = *pbr;
       if (m.double_sided) gm["doubleSided"] = true;
       if (m.alpha_mode == AlphaMode::kMask) {
         gm["alphaMode"] = "MASK";
@@ -447,8 +468,13 @@ class Writer {
       e["silhouette"] = m.silhouette;
       e["casts_shadow"] = m.casts_shadow;
       e["receives_shadow"] = m.receives_shadow;
-      e["specular"] = shortest(m.specular);
-      e["shininess"] = shortest(m.shininess);
+      if (m.shading == ShadingModel::kBlinnPhong) {
+        e["shading"] = "blinn_phong";
+        e["specular"] = shortest(m.specular);
+        e["shininess"] = shortest(m.shininess);
+      } else {
+        e["shading"] = "metallic_roughness";
+      }
       if (m.sampler.filter == Filter::kAnisotropic) e["max_anisotropy"] = m.sampler.max_aniso;
       gm["extensions"][kReliefExtension] = e;
       doc_["materials"].push_back(gm);

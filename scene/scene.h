@@ -73,8 +73,16 @@ struct Material {
   glm::vec2 uv_scale{1.0f};  // tiling (KHR_texture_transform scale)
   glm::vec2 uv_offset{0.0f};
   SamplerState sampler;
+  // Blinn-Phong (specular, shininess) for materials built in code (the papers' scenes); glTF
+  // files get metallic-roughness unless RELIEF_relief_mapping asks for Blinn-Phong
+  // (docs/scene-format.md, "Shading").
+  ShadingModel shading = ShadingModel::kBlinnPhong;
   float specular = 0.25f;
   float shininess = 32.0f;
+  float metallic = 1.0f;                  // pbrMetallicRoughness.metallicFactor
+  float roughness = 1.0f;                 // pbrMetallicRoughness.roughnessFactor
+  TexturePtr metallic_roughness_texture;  // linear: blue metallic, green roughness
+  UvMap metallic_roughness_uv;
   bool double_sided = false;
   AlphaMode alpha_mode = AlphaMode::kOpaque;  // glTF alphaMode (shaders_cpp/uniforms.h)
   float alpha_cutoff = 0.5f;                  // glTF alphaCutoff, MASK only

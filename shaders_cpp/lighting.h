@@ -1,9 +1,18 @@
-// Blinn-Phong lighting (Blinn 1977) of a shaded point in world space, shared by every plugin;
-// gl/shaders/common.glsl is its GLSL twin and must stay line-for-line equivalent.
+// Direct lighting of a shaded point in world space, shared by every plugin: Blinn-Phong (Blinn
+// 1977) or the glTF 2.0 metallic-roughness BRDF (specification appendix B), as the material's
+// ShadingModel says. gl/shaders/common.glsl is its GLSL twin and must stay line-for-line
+// equivalent.
 //
-// Punctual lights follow glTF KHR_lights_punctual: directional lights have no falloff; point and
-// spot lights fall off as 1/d^2 with the range window clamp(1 - (d/range)^4, 0, 1)^2 when range >
-// 0; spot lights blend between the outer and inner cone cosines.
+// Punctual lights follow glTF KHR_lights_punctual (docs/scene-format.md, "Lights"): a light's
+// `color` is its colour times its intensity, in lux (lm/m^2, directional: the illuminance on a
+// surface facing the light) or candela (lm/sr, point and spot: divided by d^2 it is the
+// illuminance at distance d). Directional lights have no falloff; point and spot lights fall off
+// as 1/d^2, times the specification's range window clamp(1 - (d/range)^4, 0, 1) when range > 0;
+// spot lights blend between the outer and inner cone cosines with the specification's smooth
+// (squared) ramp. The metallic-roughness BRDF carries the 1/pi of a Lambertian surface, so a
+// white diffuse surface facing a 3.14159 lux light has radiance 1 (display white at exposure 0,
+// the Khronos sample viewer's convention); Blinn-Phong has no 1/pi (radiance = albedo x
+// illuminance x cos), as the papers' scenes were lit.
 
 #if defined(RELIEF_SHADERS_CPP_LIGHTING_H_) == defined(HWY_TARGET_TOGGLE)
 #ifdef RELIEF_SHADERS_CPP_LIGHTING_H_
@@ -44,8 +53,7 @@ inline LightSample<F> light_sample(const LightUniform& light, V3<F> p) {
   F atten = F(1.0f) / dist2;
   if (light.range > 0.0f) {
     const F r = dist2 / F(light.range * light.range);
-    const F window = saturate(F(1.0f) - r * r);
-    atten = atten * window * window;
+    atten = atten * saturate(F(1.0f) - r * r);
   }
   if (light.type == LightType::kSpot) {
     const F cd = dot(normalize(V3<F>(light.direction)), -s.l);
@@ -86,6 +94,79 @@ inline V3<F> blinn_phong(const FrameUniforms& frame, const MaterialUniforms& mat
     c += select(lit, ls.radiance * contrib, V3<F>(F(0.0f), F(0.0f), F(0.0f)));
   }
   return c;
+}
+
+// What a surface is at the shaded point, before lighting: the base colour (linear, texture and
+// vertex colour applied) and, for metallic-roughness materials, metallic and roughness in [0, 1].
+template <class F>
+struct SurfaceColor {
+  V3<F> albedo;
+  F metallic, roughness;  // set for metallic-roughness materials only
+};
+
+// The glTF 2.0 metallic-roughness BRDF (specification appendix B) times cos(theta_l) for one light
+// direction l: c_diff = base (1 - metallic), f0 = lerp(0.04, base, metallic), alpha = roughness^2,
+// Schlick's F = f0 + (1 - f0)(1 - v.h)^5, the GGX (Trowbridge-Reitz) D = alpha^2 / (pi
+// ((n.h)^2 (alpha^2 - 1) + 1)^2) (evaluated in a form without cancellation), the height-correlated
+// Smith visibility V = 0.5 / (n.l sqrt((n.v)^2 (1 - alpha^2) + alpha^2) + n.v sqrt((n.l)^2 (1 -
+// alpha^2) + alpha^2)); returns
+// ((1 - F) c_diff / pi + F D V) n.l. n.v is clamped to [0, 1]: a normal-mapped normal may face
+// away from the eye, and with alpha >= kMinGgxAlpha and n.l > 0 the sum stays finite.
+template <class F>
+inline V3<F> metallic_roughness_brdf_cos(const SurfaceColor<F>& s, V3<F> n, V3<F> v, V3<F> l,
+                                         F ndotl) {
+  constexpr float kInvPi = 0.318309886f;
+  const F metallic = saturate(s.metallic);
+  const F alpha = vmax(saturate(s.roughness) * saturate(s.roughness), F(kMinGgxAlpha));
+  const F a2 = alpha * alpha;
+  const V3<F> h = normalize(l + v);
+  const F nv = saturate(dot(n, v));
+  const F nh = saturate(dot(n, h));
+  const F vh = saturate(dot(v, h));
+  const F dielectric = F(0.04f) * (F(1.0f) - metallic);
+  const V3<F> f0 = V3<F>(dielectric, dielectric, dielectric) + s.albedo * metallic;
+  const F m = F(1.0f) - vh;
+  const F m5 = (m * m) * (m * m) * m;
+  const V3<F> fresnel = f0 + (V3<F>(F(1.0f), F(1.0f), F(1.0f)) - f0) * m5;
+  // D as alpha^2 / (pi (sin^2 + (n.h alpha)^2)^2), sin^2 = 1 - (n.h)^2 = |n x h|^2 without the
+  // cancellation of 1 - (n.h)^2 near the peak (Filament's form; 1e-3 relative at alpha 0.01)
+  const V3<F> nxh = cross(n, h);
+  // (>= alpha^2 for a unit h; the bound also keeps h = 0, l = -v, finite)
+  const F k = alpha / vmax(dot(nxh, nxh) + (nh * alpha) * (nh * alpha), a2);
+  const F d = k * k * F(kInvPi);
+  const F gv = ndotl * vsqrt(nv * nv * (F(1.0f) - a2) + a2);
+  const F gl = nv * vsqrt(ndotl * ndotl * (F(1.0f) - a2) + a2);
+  const F vis = F(0.5f) / vmax(gv + gl, F(1e-12f));
+  const V3<F> diffuse = s.albedo * ((F(1.0f) - metallic) * F(kInvPi));
+  const V3<F> one(F(1.0f), F(1.0f), F(1.0f));
+  return ((one - fresnel) * diffuse + fresnel * (d * vis)) * ndotl;
+}
+
+// The metallic-roughness counterpart of blinn_phong: the ambient term (base colour x ambient, a
+// constant environment's first-order look) plus each light's BRDF x cos x radiance x visibility.
+template <class F, class Visibility>
+inline V3<F> metallic_roughness(const FrameUniforms& frame, V3<F> p, V3<F> n, V3<F> v,
+                                const SurfaceColor<F>& s, Visibility&& visibility) {
+  V3<F> c = s.albedo * V3<F>(frame.ambient);
+  for (int i = 0; i < frame.num_lights; ++i) {
+    const LightSample<F> ls = light_sample<F>(frame.lights[i], p);
+    const F ndotl = dot(n, ls.l);
+    const mask_t<F> lit = ndotl > F(0.0f);
+    if (none(lit)) continue;
+    const F vis = visibility(i, ls.l, lit);
+    const V3<F> contrib = metallic_roughness_brdf_cos(s, n, v, ls.l, vmax(ndotl, F(0.0f))) * vis;
+    c += select(lit, ls.radiance * contrib, V3<F>(F(0.0f), F(0.0f), F(0.0f)));
+  }
+  return c;
+}
+
+// The direct light at p by the material's shading model (ambient term included).
+template <class F, class Visibility>
+inline V3<F> shade_direct(const FrameUniforms& frame, const MaterialUniforms& mat, V3<F> p, V3<F> n,
+                          V3<F> v, const SurfaceColor<F>& s, Visibility&& visibility) {
+  if (mat.shading == ShadingModel::kMetallicRoughness)
+    return metallic_roughness(frame, p, n, v, s, visibility);
+  return blinn_phong(frame, mat, p, n, v, s.albedo, visibility);
 }
 
 template <class F>

@@ -43,6 +43,17 @@ enum class AlphaMode : uint8_t { kOpaque, kMask, kBlend };
 
 enum class LightType : uint8_t { kDirectional, kPoint, kSpot };
 
+// How a material turns light into colour (shaders_cpp/lighting.h shade_direct): Blinn-Phong with
+// `specular` and `shininess` (the papers' scenes, the built-in ones), or the glTF 2.0
+// metallic-roughness BRDF (specification appendix B; what glTF files get unless they ask for
+// Blinn-Phong).
+enum class ShadingModel : uint8_t { kBlinnPhong, kMetallicRoughness };
+// The smallest GGX alpha (roughness^2) the metallic-roughness BRDF uses: at alpha 0 the
+// distribution is a delta (0/0 at n = h). Filament's fp32 bound (alpha 0.002025, roughness 0.045);
+// a punctual light's highlight then peaks at about 1/(pi alpha^2) = 7.8e4 times its illuminance,
+// finite in float.
+inline constexpr float kMinGgxAlpha = 0.002025f;
+
 struct ShadowMapView;  // defined by the renderer; opaque to plugins that do not receive shadows
 
 struct LightUniform {
@@ -89,8 +100,16 @@ struct MaterialUniforms {
   const Texture* textures[kMaxTextureSlots] = {};
   SamplerState samplers[kMaxTextureSlots];
   glm::vec4 base_color{1.0f};
-  float specular = 0.25f;
-  float shininess = 32.0f;
+  ShadingModel shading = ShadingModel::kBlinnPhong;
+  float specular = 0.25f;   // Blinn-Phong
+  float shininess = 32.0f;  // Blinn-Phong
+  // Metallic-roughness: the factors, times the metallicRoughness texture's blue (metallic) and
+  // green (roughness) channels when one is bound.
+  float metallic = 1.0f;
+  float roughness = 1.0f;
+  const Texture* metallic_roughness_texture = nullptr;  // linear
+  SamplerState metallic_roughness_sampler;
+  UvMap metallic_roughness_uv;
   AlphaMode alpha_mode = AlphaMode::kOpaque;
   float alpha_cutoff = 0.5f;  // MASK only
   // glTF material terms every plugin's final colour goes through (plugins/surface.h

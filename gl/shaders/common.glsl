@@ -88,8 +88,13 @@ struct UvMap {
 struct MaterialUniforms {
   float params[kMaxParams];
   vec4 base_color;
+  int shading;  // plugins/plugin.h ShadingModel: kShadingBlinnPhong, kShadingMetallicRoughness
   float specular;
   float shininess;
+  float metallic;
+  float roughness;
+  bool has_metallic_roughness_texture;
+  UvMap metallic_roughness_uv;
   int alpha_mode;  // plugins/plugin.h AlphaMode: kAlphaOpaque, kAlphaMask, kAlphaBlend
   float alpha_cutoff;
   // glTF material terms (plugins/plugin.h MaterialUniforms; finish_surface below)
@@ -108,9 +113,10 @@ uniform FrameUniforms frame;
 uniform MaterialUniforms material;
 layout(binding = 0) uniform sampler2D textures[kMaxTextureSlots];
 uniform bool has_texture[kMaxTextureSlots];
-// Material-wide textures (gl_backend.cpp kEmissiveUnit, kOcclusionUnit).
+// Material-wide textures (gl_backend.cpp kEmissiveUnit, kOcclusionUnit, kMetallicRoughnessUnit).
 layout(binding = kEmissiveUnit) uniform sampler2D emissive_texture;
 layout(binding = kOcclusionUnit) uniform sampler2D occlusion_texture;
+layout(binding = kMetallicRoughnessUnit) uniform sampler2D metallic_roughness_texture;
 
 in vec4 vary[kCountGl / 4];
 
@@ -306,6 +312,24 @@ vec3 finish_surface(vec3 lit, vec2 uv, vec3 albedo, FragIn in_, inout float fetc
   return c;
 }
 
+// plugins/surface.h sample_surface's metallic and roughness: the factors, times the
+// metallicRoughness texture's blue and green at uv when bound (one fetch); (metallic, roughness).
+// Blinn-Phong materials read nothing.
+vec2 sample_metallic_roughness(vec2 uv, FragIn in_, inout float fetches) {
+  if (material.shading != kShadingMetallicRoughness) return vec2(0.0, 1.0);
+  float metallic = material.metallic;
+  float roughness = material.roughness;
+  if (material.has_metallic_roughness_texture) {
+    vec2 dx, dy;
+    vec2 t = map_uv(material.metallic_roughness_uv, uv, in_, dx, dy);
+    vec4 c = textureGrad(metallic_roughness_texture, t, dx, dy);
+    roughness = roughness * c.y;
+    metallic = metallic * c.z;
+    fetches += 1.0;
+  }
+  return vec2(metallic, roughness);
+}
+
 // plugins/surface.h sample_alpha: base colour factor alpha x the alpha of the base colour
 // texture (in `slot`) at uv; for passes that need no colour (MASK shadow casters).
 float base_alpha_at(int slot, vec2 uv, FragIn in_, inout float fetches) {
@@ -418,8 +442,7 @@ LightSample light_sample(LightUniform light, vec3 p) {
   float atten = 1.0 / dist2;
   if (light.range > 0.0) {
     float r = dist2 / (light.range * light.range);
-    float window = clamp(1.0 - r * r, 0.0, 1.0);
-    atten = atten * window * window;
+    atten = atten * clamp(1.0 - r * r, 0.0, 1.0);
   }
   if (light.type == kLightSpot) {
     float cd = dot(normalize_safe(light.direction), -s.l);
@@ -450,4 +473,49 @@ vec3 blinn_phong(vec3 p, vec3 n, vec3 v, vec3 albedo) {
     c += ls.radiance * contrib;
   }
   return c;
+}
+
+// metallic_roughness_brdf_cos: the glTF 2.0 metallic-roughness BRDF (appendix B) times n.l.
+vec3 metallic_roughness_brdf_cos(vec3 albedo, vec2 mr, vec3 n, vec3 v, vec3 l, float ndotl) {
+  const float kInvPi = 0.318309886;
+  float metallic = clamp(mr.x, 0.0, 1.0);
+  float alpha = max(clamp(mr.y, 0.0, 1.0) * clamp(mr.y, 0.0, 1.0), kMinGgxAlpha);
+  float a2 = alpha * alpha;
+  vec3 h = normalize_safe(l + v);
+  float nv = clamp(dot(n, v), 0.0, 1.0);
+  float nh = clamp(dot(n, h), 0.0, 1.0);
+  float vh = clamp(dot(v, h), 0.0, 1.0);
+  float dielectric = 0.04 * (1.0 - metallic);
+  vec3 f0 = vec3(dielectric, dielectric, dielectric) + albedo * metallic;
+  float m = 1.0 - vh;
+  float m5 = (m * m) * (m * m) * m;
+  vec3 fresnel = f0 + (vec3(1.0) - f0) * m5;
+  vec3 nxh = cross(n, h);
+  float k = alpha / max(dot(nxh, nxh) + (nh * alpha) * (nh * alpha), a2);
+  float d = k * k * kInvPi;
+  float gv = ndotl * sqrt(nv * nv * (1.0 - a2) + a2);
+  float gl = nv * sqrt(ndotl * ndotl * (1.0 - a2) + a2);
+  float vis = 0.5 / max(gv + gl, 1e-12);
+  vec3 diffuse = albedo * ((1.0 - metallic) * kInvPi);
+  return ((vec3(1.0) - fresnel) * diffuse + fresnel * (d * vis)) * ndotl;
+}
+
+// metallic_roughness: ambient term plus each light's BRDF x cos x radiance x visibility.
+vec3 metallic_roughness(vec3 p, vec3 n, vec3 v, vec3 albedo, vec2 mr) {
+  vec3 c = albedo * frame.ambient;
+  for (int i = 0; i < frame.num_lights; ++i) {
+    LightSample ls = light_sample(frame.lights[i], p);
+    float ndotl = dot(n, ls.l);
+    if (!(ndotl > 0.0)) continue;
+    float vis = visibility(i, ls.l);
+    c += ls.radiance * (metallic_roughness_brdf_cos(albedo, mr, n, v, ls.l, ndotl) * vis);
+  }
+  return c;
+}
+
+// shade_direct: the direct light by the material's shading model (mr from
+// sample_metallic_roughness).
+vec3 shade_direct(vec3 p, vec3 n, vec3 v, vec3 albedo, vec2 mr) {
+  if (material.shading == kShadingMetallicRoughness) return metallic_roughness(p, n, v, albedo, mr);
+  return blinn_phong(p, n, v, albedo);
 }

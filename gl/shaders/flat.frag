@@ -40,8 +40,9 @@ ShadeOut shade(FragIn in_) {
   base_alpha *= in_.color.a;
   recv_p = in_.position;
   recv_n = n;
+  vec2 mr = sample_metallic_roughness(in_.uv, in_, o.fetches);  // plugins/surface.h sample_surface
   recv_fetches = o.fetches;
-  o.color = material.unlit ? albedo : blinn_phong(in_.position, n, v, albedo);
+  o.color = material.unlit ? albedo : shade_direct(in_.position, n, v, albedo, mr);
   o.fetches = recv_fetches;
   o.color = finish_surface(o.color, in_.uv, albedo, in_, o.fetches);
   o.alpha = base_alpha;

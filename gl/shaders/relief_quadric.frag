@@ -114,8 +114,9 @@ ShadeOut shade(FragIn in_) {
   base_alpha *= in_.color.a;
   recv_p = pos;
   recv_n = n;
+  vec2 mr = sample_metallic_roughness(hit_uv, in_, o.fetches);  // plugins/surface.h sample_surface
   recv_fetches = o.fetches;
-  o.color = material.unlit ? albedo : blinn_phong(pos, n, -w, albedo);
+  o.color = material.unlit ? albedo : shade_direct(pos, n, -w, albedo, mr);
   o.fetches = recv_fetches;
   o.color = finish_surface(o.color, hit_uv, albedo, in_, o.fetches);
   o.alpha = base_alpha;

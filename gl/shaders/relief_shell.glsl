@@ -106,12 +106,13 @@ ShadeOut shade(FragIn in_) {
   shell_depth = depth;
   shell_hit = hit;
   shell_depth_scale = depth_scale;
+  vec2 mr = sample_metallic_roughness(hit.uv, in_, o.fetches);  // plugins/surface.h sample_surface
   shell_out = o;
   shell_pos = pos;
   shell_n = n;
   albedo = albedo * in_.color.rgb;  // COLOR_0 (plugins/surface.h sample_albedo)
   base_alpha *= in_.color.a;
-  vec3 color = material.unlit ? albedo : blinn_phong(pos, n, -w, albedo);
+  vec3 color = material.unlit ? albedo : shade_direct(pos, n, -w, albedo, mr);
   o = shell_out;
   o.color = finish_surface(color, hit.uv, albedo, in_, o.fetches);
   o.alpha = base_alpha;

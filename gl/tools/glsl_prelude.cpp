@@ -53,6 +53,21 @@ class Writer {
     out_ << "\n";
     return true;
   }
+  // A float written with 9 significant digits, which reads back as the same float.
+  bool float_constant(const std::string& name, float value, const char* note = nullptr) {
+    if (!names_.insert(name).second) {
+      std::fprintf(stderr, "glsl_prelude: two constants named %s\n", name.c_str());
+      return false;
+    }
+    char text[32];
+    std::snprintf(text, sizeof text, "%.9g", value);
+    std::string v = text;
+    if (v.find_first_of(".e") == std::string::npos) v += ".0";
+    out_ << "const float " << name << " = " << v << ";";
+    if (note) out_ << "  // " << note;
+    out_ << "\n";
+    return true;
+  }
   void line(const std::string& text) { out_ << text << "\n"; }
   std::string text() const { return out_.str(); }
 
@@ -112,6 +127,7 @@ int main(int argc, char** argv) {
   using relief::AlphaMode;
   using relief::Filter;
   using relief::LightType;
+  using relief::ShadingModel;
   using relief::Wrap;
   namespace L = relief::gl_layout;
   const Shared shared[] = {
@@ -137,6 +153,9 @@ int main(int argc, char** argv) {
        nullptr},
       {nullptr, "kAlphaMask", as_int(AlphaMode::kMask), nullptr},
       {nullptr, "kAlphaBlend", as_int(AlphaMode::kBlend), nullptr},
+      {"ShadingModel (MaterialUniforms::shading)", "kShadingBlinnPhong",
+       as_int(ShadingModel::kBlinnPhong), nullptr},
+      {nullptr, "kShadingMetallicRoughness", as_int(ShadingModel::kMetallicRoughness), nullptr},
       {"rasterizer/texture.h Filter and Wrap", "kFilterNearest", as_int(Filter::kNearest), nullptr},
       {nullptr, "kFilterBilinear", as_int(Filter::kBilinear), nullptr},
       {nullptr, "kFilterTrilinear", as_int(Filter::kTrilinear), nullptr},
@@ -148,6 +167,7 @@ int main(int argc, char** argv) {
        "kShadowUnit", L::kShadowUnit, nullptr},
       {nullptr, "kEmissiveUnit", L::kEmissiveUnit, nullptr},
       {nullptr, "kOcclusionUnit", L::kOcclusionUnit, nullptr},
+      {nullptr, "kMetallicRoughnessUnit", L::kMetallicRoughnessUnit, nullptr},
       {nullptr, "kCountersBinding", L::kCountersBinding, nullptr},
       {nullptr, "kHeightFieldBinding", L::kHeightFieldBinding, nullptr},
       {nullptr, "kShadowViewsBinding", L::kShadowViewsBinding, nullptr},
@@ -175,6 +195,10 @@ int main(int argc, char** argv) {
     }
     ok = ok && w.constant(s.name, s.value, s.note);
   }
+  w.line("");
+  w.line("// ---- float constants ----");
+  ok = ok && w.float_constant("kMinGgxAlpha", relief::kMinGgxAlpha,
+                              "shaders_cpp/uniforms.h: the smallest GGX alpha");
   for (const PluginDescriptor* p : relief::PluginRegistry::global().all())
     ok = ok && write_technique(w, *p);
   if (!ok) return 1;

@@ -84,6 +84,8 @@ TEST(ShaderPrelude, MatchesUniformsAndEveryBuiltinDescriptor) {
       {"kAlphaOpaque", int(AlphaMode::kOpaque)},
       {"kAlphaMask", int(AlphaMode::kMask)},
       {"kAlphaBlend", int(AlphaMode::kBlend)},
+      {"kShadingBlinnPhong", int(ShadingModel::kBlinnPhong)},
+      {"kShadingMetallicRoughness", int(ShadingModel::kMetallicRoughness)},
       {"kFilterNearest", int(Filter::kNearest)},
       {"kFilterBilinear", int(Filter::kBilinear)},
       {"kFilterTrilinear", int(Filter::kTrilinear)},
@@ -94,6 +96,7 @@ TEST(ShaderPrelude, MatchesUniformsAndEveryBuiltinDescriptor) {
       {"kShadowUnit", gl_layout::kShadowUnit},
       {"kEmissiveUnit", gl_layout::kEmissiveUnit},
       {"kOcclusionUnit", gl_layout::kOcclusionUnit},
+      {"kMetallicRoughnessUnit", gl_layout::kMetallicRoughnessUnit},
       {"kCountersBinding", gl_layout::kCountersBinding},
       {"kHeightFieldBinding", gl_layout::kHeightFieldBinding},
       {"kShadowViewsBinding", gl_layout::kShadowViewsBinding},
@@ -122,6 +125,18 @@ TEST(ShaderPrelude, MatchesUniformsAndEveryBuiltinDescriptor) {
   }
   for (const auto& [name, value] : got)
     EXPECT_TRUE(want.count(name)) << "prelude.glsl has " << name << ", which no C++ source gives";
+}
+
+// The float constants: written so that they read back as the very float the C++ uses.
+TEST(ShaderPrelude, FloatConstantsReadBackExactly) {
+  Result<std::string> text = read_shader_file("prelude.glsl");
+  ASSERT_TRUE(text.ok()) << text.status().message();
+  std::map<std::string, float> got;
+  static const std::regex decl(R"(const float (\w+) = ([-+.\deE]+);)");
+  for (std::sregex_iterator it(text->begin(), text->end(), decl), end; it != end; ++it)
+    got[(*it)[1].str()] = std::stof((*it)[2].str());
+  const std::map<std::string, float> want = {{"kMinGgxAlpha", kMinGgxAlpha}};
+  EXPECT_EQ(got, want);
 }
 
 TEST(ShaderPrelude, EmbeddedCopyIsTheBuildTreeFile) {
