@@ -12,6 +12,7 @@
 #include "builtin/builtin_bending.h"
 #include "builtin/builtin_curved.h"
 #include "builtin/builtin_impostor.h"
+#include "builtin/builtin_materials.h"
 #include "builtin/builtin_parts.h"
 #include "builtin/builtin_room.h"
 #include "builtin/builtin_showcase.h"
@@ -226,6 +227,9 @@ const std::vector<BuiltinSceneInfo>& builtin_scenes() {
        "spheres through a relief floor and two coincident relief cylinders (depth correction)"},
       {"teatime", "a relief teapot on a relief floor under a shadow-casting spot light"},
       {"impostor", "a sphere as dual-depth relief textures on one quad, relief_dual (impostor)"},
+      {"materials",
+       "four relief spheres lit by the glTF metallic-roughness BRDF (smooth and rough metal and "
+       "dielectric) on a relief floor of rough and polished tiles, spot light in candela"},
   };
   return scenes;
 }
@@ -251,6 +255,7 @@ Result<Scene> make_builtin_scene(const std::string& name) {
   if (name == "interpenetration") return make_interpenetration_scene();
   if (name == "teatime") return make_teatime_scene();
   if (name == "impostor") return make_impostor_scene();
+  if (name == "materials") return make_materials_scene();
   if (name == "sphere" || name == "cylinder" || name == "torus" || name == "teapot")
     return make_curved_scene(name);
   std::string known;

@@ -159,24 +159,6 @@ void add_rect(Mesh& m, glm::vec3 corner, glm::vec3 eu, glm::vec3 ev, glm::vec2 u
   m.indices.insert(m.indices.end(), {base, base + 1, base + 2, base, base + 2, base + 3});
 }
 
-namespace {
-
-// A square column standing on y = 0: four sides and the top, one texture tile across each side.
-Mesh make_column(glm::vec2 c, float half, float height) {
-  Mesh m;
-  m.name = "column";
-  const float w = 2.0f * half;
-  const glm::vec2 side(1.0f, height / w);
-  add_rect(m, {c.x - half, 0, c.y + half}, {w, 0, 0}, {0, height, 0}, side);
-  add_rect(m, {c.x + half, 0, c.y + half}, {0, 0, -w}, {0, height, 0}, side);
-  add_rect(m, {c.x + half, 0, c.y - half}, {-w, 0, 0}, {0, height, 0}, side);
-  add_rect(m, {c.x - half, 0, c.y - half}, {0, 0, w}, {0, height, 0}, side);
-  add_rect(m, {c.x - half, height, c.y + half}, {w, 0, 0}, {0, 0, -w}, {1.0f, 1.0f});
-  prepare_mesh(m);
-  return m;
-}
-
-// A latitude-longitude sphere, u around (4 tiles), v from the bottom to the top (2 tiles).
 Mesh make_sphere(glm::vec3 c, float r, int slices, int stacks) {
   Mesh m;
   m.name = "sphere";
@@ -195,6 +177,23 @@ Mesh make_sphere(glm::vec3 c, float r, int slices, int stacks) {
       const uint32_t a = j * row + i, b = a + 1, d = a + row, e = d + 1;
       m.indices.insert(m.indices.end(), {a, d, e, a, e, b});
     }
+  prepare_mesh(m);
+  return m;
+}
+
+namespace {
+
+// A square column standing on y = 0: four sides and the top, one texture tile across each side.
+Mesh make_column(glm::vec2 c, float half, float height) {
+  Mesh m;
+  m.name = "column";
+  const float w = 2.0f * half;
+  const glm::vec2 side(1.0f, height / w);
+  add_rect(m, {c.x - half, 0, c.y + half}, {w, 0, 0}, {0, height, 0}, side);
+  add_rect(m, {c.x + half, 0, c.y + half}, {0, 0, -w}, {0, height, 0}, side);
+  add_rect(m, {c.x + half, 0, c.y - half}, {-w, 0, 0}, {0, height, 0}, side);
+  add_rect(m, {c.x - half, 0, c.y - half}, {0, 0, w}, {0, height, 0}, side);
+  add_rect(m, {c.x - half, height, c.y + half}, {w, 0, 0}, {0, 0, -w}, {1.0f, 1.0f});
   prepare_mesh(m);
   return m;
 }

@@ -28,6 +28,10 @@ Material procedural_relief_material(const std::string& name, const ReliefPattern
 // prepare_mesh (scene/mesh_prep.h) once the mesh is complete.
 void add_rect(Mesh& mesh, glm::vec3 corner, glm::vec3 eu, glm::vec3 ev, glm::vec2 uv_max);
 
+// A latitude-longitude sphere of `slices` x `stacks` quads with normals, u around (4 tiles), v from
+// the bottom to the top (2 tiles); prepared (prepare_mesh).
+Mesh make_sphere(glm::vec3 centre, float radius, int slices, int stacks);
+
 // The quadric paper's "relief room" (Oliveira and Policarpo 2005, figure 1): relief walls and
 // floor, four relief columns, a relief sphere in the middle, one shadow-casting spot light and a
 // fill light that casts none.

@@ -68,9 +68,10 @@ TEST(Plan, EveryBuiltinSceneListsExactlyTheExpectedPasses) {
       {"cylinder", {"main"}},
       {"torus", {"main"}},
       {"teapot", {"main"}},
-      {"interpenetration", {"main"}},        // its sun casts none
-      {"teatime", {"shadow:spot", "main"}},  // the fill light casts none
-      {"impostor", {"main"}},                // its sun casts none
+      {"interpenetration", {"main"}},          // its sun casts none
+      {"teatime", {"shadow:spot", "main"}},    // the fill light casts none
+      {"impostor", {"main"}},                  // its sun casts none
+      {"materials", {"shadow:spot", "main"}},  // the fill light casts none
   };
   for (const BuiltinSceneInfo& info : builtin_scenes()) {
     Result<Scene> s = make_builtin_scene(info.name);
