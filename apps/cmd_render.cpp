@@ -27,6 +27,7 @@
 #include "plugins/registry.h"
 #include "rasterizer/output_file.h"
 #include "rasterizer/safe_file.h"
+#include "rasterizer/tone_map.h"
 #include "render/derived_maps.h"
 #include "render/render.h"
 #include "render/renderer.h"
@@ -63,6 +64,8 @@ struct RenderArgs {
   bool log_json = false;
   std::string spp = "1";
   std::string exposure = "0";
+  std::string tonemap;         // --tonemap
+  bool tonemap_given = false;  // else the default of the scene's source
   std::string alpha = "none";  // --alpha (apps/output.h OutputAlpha)
   double fps = 24.0;
   std::string animation;
@@ -352,6 +355,8 @@ struct RenderJob {
   int spp = 1;
   int k = 1;  // supersampling grid side
   float exposure = 0.0f;
+  ToneCurve tone = ToneCurve::kNone;  // for 8-bit outputs (apps/output.h image_is_8bit)
+  bool tone_asked = false;            // --tonemap given (else the default of the scene's source)
   OutputAlpha alpha_mode = OutputAlpha::kNone;
   std::vector<int> frames;  // this shard's
   bool skip_existing = false;
@@ -412,8 +417,43 @@ Status parse_frame_options(const RenderArgs& a, RenderJob& job) {
   return parse_aovs(a.aovs, opt, job.names);
 }
 
-// Frames, shards, samples, exposure, alpha, fps, backend and the output files: all checked before
-// anything renders.
+// --tonemap, or its default: pbr-neutral for a glTF file (the Khronos glTF Sample Viewer's
+// default), none for a built-in scene (its look before tone curves).
+Status parse_tonemap(const RenderArgs& a, RenderJob& job) {
+  const std::string& text = a.tonemap;
+  job.tone_asked = a.tonemap_given;
+  if (!job.tone_asked) {
+    job.tone = is_scene_path(job.scene_name) ? ToneCurve::kPbrNeutral : ToneCurve::kNone;
+    return {};
+  }
+  if (!parse_tone_curve(text, job.tone))
+    return Status::usage("--tonemap: expected none, aces or pbr-neutral, got '" + printable(text) +
+                         "'");
+  return {};
+}
+
+// The output transform for --explain: exposure, the tone curve and why, the encoding.
+std::string explain_output(const RenderJob& job, const std::string& image_file) {
+  char ev[32];
+  std::snprintf(ev, sizeof ev, "%+g", job.exposure);
+  std::string out = "output transform: exposure " + std::string(ev) + " EV, ";
+  const std::string curve = tone_curve_name(job.tone);
+  const std::string why =
+      job.tone_asked ? "asked by --tonemap"
+                     : (is_scene_path(job.scene_name)
+                            ? "the default for a glTF file, as the Khronos glTF Sample Viewer's"
+                            : "the default for a built-in scene: its look before tone curves");
+  if (image_is_8bit(image_file))
+    out +=
+        "tone curve " + curve + " (" + why + "), then 8-bit sRGB (" + printable(image_file) + ")\n";
+  else
+    out += "no tone curve: " + printable(image_file) + " is a linear file (float or 16-bit), " +
+           curve + " (" + why + ") applies to 8-bit outputs only\n";
+  return out;
+}
+
+// Frames, shards, samples, exposure, tone curve, alpha, fps, backend and the output files: all
+// checked before anything renders.
 Status parse_frames_and_outputs(const RenderArgs& a, RenderJob& job) {
   job.named = !a.frames.empty();
   if (job.named) {
@@ -442,6 +482,7 @@ Status parse_frames_and_outputs(const RenderArgs& a, RenderJob& job) {
   Result<float> exposure = parse_exposure(a.exposure);
   if (!exposure.ok()) return Status::usage(exposure.status().message());
   job.exposure = *exposure;
+  RELIEF_RETURN_IF_ERROR(parse_tonemap(a, job));
   Status s = parse_output_alpha(a.alpha, job.alpha_mode);
   if (!s.ok()) return Status::usage(s.message());
   if (!(a.fps > 0.0 && a.fps <= 1000.0))
@@ -533,6 +574,7 @@ class FrameLoop {
       std::fprintf(human_, "%s", fr->plan.explain().c_str());
       std::fprintf(human_, "%s",
                    explain_ignored(scene_, ignored_, is_scene_path(job_.scene_name)).c_str());
+      std::fprintf(human_, "%s", explain_output(job_, files[0]).c_str());
     }
     const auto t_out = std::chrono::steady_clock::now();
     Status s = write_outputs(*fr, files, f, time_s, ps, claim);
@@ -582,6 +624,7 @@ class FrameLoop {
     const Framebuffer& fb = fr.result.framebuffer;
     Image color = box_downsample(fb.color, k);
     if (job_.exposure != 0.0f) apply_exposure(color, std::exp2(job_.exposure));
+    if (image_is_8bit(files[0])) apply_tone_curve(color, job_.tone);  // float files stay linear
     apply_output_alpha(color, job_.alpha_mode);
     StagedFiles out;
     auto stage = [&out](const std::string& file, const Result<std::vector<unsigned char>>& bytes) {
@@ -625,6 +668,8 @@ class FrameLoop {
     j["time_s"] = time_s;
     j["spp"] = job_.spp;
     j["exposure"] = job_.exposure;
+    j["tonemap"] = tone_curve_name(job_.tone);
+    j["tonemap_applied"] = job_.tone != ToneCurve::kNone && image_is_8bit(job_.names.image);
     j["bake"] = bake_json(fr.bake);
     if (anim_) {
       j["pose"]["deform_ms"] = ps.deform_ms;
@@ -823,6 +868,11 @@ void register_render(CLI::App& app, Action& action) {
   sub->add_option("--exposure", a->exposure,
                   "Exposure in stops: linear colour times 2^EV before the output transform")
       ->capture_default_str();
+  sub->add_option("--tonemap", a->tonemap,
+                  "Tone curve for 8-bit outputs (.png): none (clamp), aces (ACES filmic, Hill's "
+                  "fit) or pbr-neutral (Khronos PBR Neutral); default pbr-neutral for a glTF "
+                  "file, none for a built-in scene; .exr and .tif stay linear (docs/effects.md)")
+      ->each([a](const std::string&) { a->tonemap_given = true; });
   sub->add_option("--alpha", a->alpha,
                   "Output alpha: none (RGB), straight or premultiplied (RGBA; docs/aovs.md)")
       ->capture_default_str();

@@ -3,6 +3,8 @@
 #include <sys/stat.h>
 
 #include <algorithm>
+#include <cctype>
+#include <filesystem>
 #include <regex>
 
 #include "rasterizer/output_file.h"
@@ -28,6 +30,13 @@ Status OutputCheck::add(const std::string& option, const std::string& path, Kind
     return Status::usage(option + ": '" + printable(path) + "' is the same file as " +
                          it->second.first + " '" + printable(it->second.second) + "'");
   return {};
+}
+
+bool image_is_8bit(const std::string& path) {
+  std::string ext = std::filesystem::path(path).extension().string();  // as encode_image reads it
+  std::transform(ext.begin(), ext.end(), ext.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  return ext == ".png";
 }
 
 Status parse_output_alpha(const std::string& text, OutputAlpha& mode) {
