@@ -201,6 +201,7 @@ TEST(EnvironmentBake, SplitSumTableAgreesWithQuadratureAndNeverGainsEnergy) {
   const Texture& lut = maps->brdf_lut;
   const int n = lut.width();
   double worst = 0.0;
+  int worst_i = 0, worst_j = 0;
   for (int j = 0; j < n; ++j)
     for (int i = 0; i < n; ++i) {
       const glm::vec4 ab = lut.fetch(0, i, j);
@@ -208,9 +209,23 @@ TEST(EnvironmentBake, SplitSumTableAgreesWithQuadratureAndNeverGainsEnergy) {
       EXPECT_GE(ab.x, 0.0f);
       EXPECT_GE(ab.y, 0.0f);
       if (j == 0) EXPECT_NEAR(ab.x + ab.y, 1.0f, 0.01f) << i;  // roughness 1/64: a mirror
-      worst = std::max(worst, 1.0 - (ab.x + ab.y));
+      if (1.0 - (ab.x + ab.y) > worst) {
+        worst = 1.0 - (ab.x + ab.y);
+        worst_i = i;
+        worst_j = j;
+      }
     }
-  std::printf("worst single-scattering loss in the table: %.3f\n", worst);
+  std::printf("worst single-scattering loss in the %dx%d table: %.3f at texel (%d, %d)\n", n, n,
+              worst, worst_i, worst_j);
+  std::printf("loss 1 - (A + B) | NdotV 0.05 | 0.25 | 0.5 | 1.0\n");  // docs/environment.md
+  for (float rough : {0.0f, 0.25f, 0.5f, 0.75f, 1.0f}) {
+    std::printf("roughness %.2f", rough);
+    for (float nv : {0.05f, 0.25f, 0.5f, 1.0f}) {
+      const glm::vec2 ab = integrate_split_sum(nv, rough, 4096);
+      std::printf(" | %.3f", 1.0f - (ab.x + ab.y));
+    }
+    std::printf("\n");
+  }
   for (double nv : {0.2, 0.5, 0.9})
     for (double rough : {0.3, 0.6, 1.0}) {
       const glm::dvec2 q = quadrature_split_sum(nv, rough);
