@@ -91,7 +91,7 @@ void set_derived_map_progress(DerivedMapProgress progress);
 // The image-based light of an equirectangular environment (bake/environment_bake.h), baked once
 // per content and kept in the memory cache, keyed by a 64-bit hash of the texels, their size, the
 // options and the baker's version. Not on disk: the disk format holds cone ratios, and the bake
-// of a 2048x1024 map takes about 2 s on two cores (docs/environment.md).
+// of a 2048x1024 map takes about 1 s on two cores (docs/environment.md).
 struct DerivedEnvironment {
   std::shared_ptr<const EnvironmentMaps> maps;
   std::string note;  // one line for --explain: baked (and in how many ms) or from the cache
