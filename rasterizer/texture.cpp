@@ -495,6 +495,29 @@ Texture Texture::from_floats(TexFormat format, int width, int height, const floa
   return t;
 }
 
+Texture Texture::from_levels(TexFormat format, std::vector<MipLevel> levels,
+                             ColorSpace color_space) {
+  CHECK(!levels.empty());
+  const int w = levels[0].width, h = levels[0].height;
+  CHECK_GE(w, 1);
+  CHECK_GE(h, 1);
+  Texture t;
+  t.format_ = format;
+  t.color_space_ = is_8bit(format) ? color_space : ColorSpace::kLinear;
+  for (size_t k = 0; k < levels.size(); ++k) {
+    MipLevel& level = levels[k];
+    CHECK_LT(k, size_t{31});
+    const int want_w = std::max(1, w >> k), want_h = std::max(1, h >> k);
+    CHECK_EQ(level.width, want_w);
+    CHECK_EQ(level.height, want_h);
+    CHECK_EQ(level.data.size(),
+             static_cast<size_t>(level.width) * level.height * format_bytes_per_texel(format));
+    sanitize_level(format, level);
+  }
+  t.levels_ = std::move(levels);
+  return t;
+}
+
 void Texture::generate_mips(MipReduce reduce) {
   CHECK(!levels_.empty());
   levels_.resize(1);

@@ -56,6 +56,14 @@ class Texture {
   // Level 0 from float channels (count = width*height*format_channels), encoded into `format`.
   static Texture from_floats(TexFormat format, int width, int height, const float* values,
                              ColorSpace color_space = ColorSpace::kLinear);
+  // A texture of explicit levels (a prefiltered chain: bake/environment_bake.h), moved in: level
+  // k must be max(1, w >> k) x max(1, h >> k) of level 0's w x h (the sizes generate_mips makes,
+  // which the samplers assume) and hold that many texels of `format`; fewer levels than a full
+  // chain are allowed (sampling clamps the LOD to levels() - 1, as GL does with
+  // GL_TEXTURE_MAX_LEVEL = levels() - 1). Float texels are sanitised like the constructor's.
+  // CHECK-fails on a size mismatch or no levels.
+  static Texture from_levels(TexFormat format, std::vector<MipLevel> levels,
+                             ColorSpace color_space = ColorSpace::kLinear);
 
   // Replaces levels 1.. with a full chain down to 1x1 (non-power-of-two: floor halving, each
   // output texel reduces the 2x2 (or 2x1, 1x2) block that covers it).

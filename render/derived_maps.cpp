@@ -24,6 +24,7 @@
 #include "plugins/registry.h"
 #include "rasterizer/output_file.h"
 #include "rasterizer/safe_file.h"
+#include "scene/image_io.h"
 
 namespace relief {
 namespace {
@@ -150,6 +151,14 @@ DerivedMapCounters g_counters;
 DerivedMapProgress g_progress;
 std::map<uint64_t, TexturePtr>& memory_cache() {
   static auto* m = new std::map<uint64_t, TexturePtr>();
+  return *m;
+}
+
+static_assert(kMaxEnvironmentTexels == kMaxEnvironmentBakeTexels);
+// Bumped whenever the environment bake's answer changes.
+constexpr uint32_t kEnvironmentBakeVersion = 1;
+std::map<uint64_t, std::shared_ptr<const EnvironmentMaps>>& environment_cache() {
+  static auto* m = new std::map<uint64_t, std::shared_ptr<const EnvironmentMaps>>();
   return *m;
 }
 
@@ -313,6 +322,38 @@ void set_derived_map_progress(DerivedMapProgress progress) {
 void clear_derived_map_memory_cache() {
   std::lock_guard<std::mutex> lock(g_mutex);
   memory_cache().clear();
+  environment_cache().clear();
+}
+
+Result<DerivedEnvironment> derived_environment(const Image& equirect,
+                                               const EnvironmentBakeOptions& options) {
+  const auto t0 = std::chrono::steady_clock::now();
+  Hasher key;
+  key.value(kEnvironmentBakeVersion);
+  key.value(equirect.width);
+  key.value(equirect.height);
+  for (int v : {options.specular_size, options.specular_levels, options.specular_samples,
+                options.lut_size, options.lut_samples})
+    key.value(v);
+  key.bytes(equirect.pixels.data(), equirect.pixels.size() * sizeof(glm::vec4));
+  const std::string what =
+      "environment " + std::to_string(equirect.width) + "x" + std::to_string(equirect.height) +
+      " (SH9, specular " + std::to_string(options.specular_size) + "x" +
+      std::to_string(options.specular_size) + " in " + std::to_string(options.specular_levels) +
+      " roughness levels, LUT " + std::to_string(options.lut_size) + "x" +
+      std::to_string(options.lut_size) + ")";
+  std::lock_guard<std::mutex> lock(g_mutex);
+  if (auto hit = environment_cache().find(key.h); hit != environment_cache().end())
+    return DerivedEnvironment{hit->second, what + " from the memory cache"};
+  Result<EnvironmentMaps> baked = bake_environment(equirect, options);
+  if (!baked.ok()) return baked.status();
+  auto maps = std::make_shared<const EnvironmentMaps>(std::move(*baked));
+  environment_cache()[key.h] = maps;
+  const double ms =
+      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.1f", ms);
+  return DerivedEnvironment{maps, what + " baked in " + std::string(buf) + " ms"};
 }
 
 Result<DerivedMap> derive_map(const Material& m, const std::string& slot) {

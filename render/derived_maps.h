@@ -29,8 +29,10 @@
 #pragma once
 
 #include <functional>
+#include <memory>
 #include <string>
 
+#include "bake/environment_bake.h"
 #include "base/status.h"
 #include "rasterizer/texture.h"
 #include "scene/scene.h"
@@ -85,6 +87,17 @@ DerivedMapCounters derived_map_counters();
 // and the material ("relaxed cone map 512x512 (wrap) of material 'bricks'"). Empty: none.
 using DerivedMapProgress = std::function<void(const std::string& what, float fraction)>;
 void set_derived_map_progress(DerivedMapProgress progress);
+
+// The image-based light of an equirectangular environment (bake/environment_bake.h), baked once
+// per content and kept in the memory cache, keyed by a 64-bit hash of the texels, their size, the
+// options and the baker's version. Not on disk: the disk format holds cone ratios, and the bake
+// of a 2048x1024 map takes about 1 s on two cores (docs/environment.md).
+struct DerivedEnvironment {
+  std::shared_ptr<const EnvironmentMaps> maps;
+  std::string note;  // one line for --explain: baked (and in how many ms) or from the cache
+};
+Result<DerivedEnvironment> derived_environment(const Image& equirect,
+                                               const EnvironmentBakeOptions& options = {});
 
 // Forgets the memory cache (tests).
 void clear_derived_map_memory_cache();

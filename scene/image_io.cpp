@@ -480,6 +480,38 @@ Result<Image> read_image(const std::string& path) {
   return img;
 }
 
+Result<Image> load_environment(const std::string& path, long long* replaced) {
+  Input in;
+  RELIEF_RETURN_IF_ERROR(open_input(path, in, kMaxEnvironmentTexels));
+  if (in.width != 2 * in.height)
+    return fail(printable(path), "environment is " + std::to_string(in.width) + "x" +
+                                     std::to_string(in.height) +
+                                     ", expected an equirectangular map twice as wide as high");
+  const int ch = std::min(in.channels, 3);
+  const size_t n = static_cast<size_t>(in.width) * in.height;
+  std::vector<float> src(n * ch);
+  RELIEF_RETURN_IF_ERROR(read_pixels(printable(path), in, ch, OIIO::TypeDesc::FLOAT, src.data()));
+  const bool srgb = in.depth == Depth::k8;
+  long long bad = 0;
+  Image img(in.width, in.height);
+  for (size_t i = 0; i < n; ++i) {
+    float rgb[3];
+    bool replaced_one = false;
+    for (int c = 0; c < 3; ++c) {
+      float v = src[i * ch + (ch == 3 ? c : 0)];  // 1 or 2 channels: grey
+      if (!(std::isfinite(v) && v >= 0.0f)) {
+        v = 0.0f;
+        replaced_one = true;
+      }
+      rgb[c] = srgb ? static_cast<float>(srgb_decode(v)) : v;
+    }
+    bad += replaced_one ? 1 : 0;
+    img.pixels[i] = glm::vec4(rgb[0], rgb[1], rgb[2], 1.0f);
+  }
+  if (replaced) *replaced = bad;
+  return img;
+}
+
 Result<std::vector<unsigned char>> encode_image(const std::string& path, const Image& image) {
   bool opaque = true;
   for (const glm::vec4& p : image.pixels) opaque = opaque && p.a == 1.0f;

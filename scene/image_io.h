@@ -24,6 +24,9 @@ namespace relief {
 inline constexpr int kMaxImageSide = 16384;
 inline constexpr long long kMaxImageTexels = 64LL * 1024 * 1024;
 inline constexpr long long kMaxTextureTexels = 16LL * 1024 * 1024;
+// load_environment's limit: 8192 x 4096, the largest common HDRI size (the bake's own limit,
+// shaders_cpp/environment_maps.h).
+inline constexpr long long kMaxEnvironmentTexels = 8192LL * 4096;
 // A tiled file's (EXR, TIFF) tile is decoded into a buffer of its whole size, whatever the image's
 // size: at most this many values (tile width x height x channels; a 1024 x 1024 RGBA tile).
 // Found by fuzz_image_header: a 20 x 28 EXR with 6560 x 29684 tiles took 3.4 s and 2 GB.
@@ -63,6 +66,16 @@ Result<Texture> load_texture_from_memory(std::string bytes, const std::string& n
 // Reads an image as linear float RGBA (1 channel: grey, alpha 1; 2: grey + alpha; 3: alpha 1).
 // 8-bit files are decoded from sRGB (alpha stays linear). Non-finite values read as 0.
 Result<Image> read_image(const std::string& path);
+
+// Reads an equirectangular environment (docs/environment.md; shaders_cpp/environment_maps.h has
+// its orientation) as linear RGB, alpha 1: a Radiance .hdr (RGBE) or an OpenEXR file (any image
+// format read_image reads is accepted; 8-bit files decode from sRGB). Texels that are NaN,
+// infinite or negative read as 0, and `replaced` (when not null) says how many there were, for
+// the caller to warn about. Errors, one line starting with the path: what read_image refuses
+// (missing, not a regular file, not an image, too large a file), more than
+// kMaxEnvironmentTexels texels, and an aspect other than exactly 2:1 (width == 2 * height): an
+// equirectangular map of another shape would be stretched, which is an error, not a guess.
+Result<Image> load_environment(const std::string& path, long long* replaced = nullptr);
 
 // Writes by extension: .png 8-bit sRGB-encoded, .exr float linear, .tif/.tiff 16-bit linear.
 // Integer formats clamp to [0, 1]; RGB when every alpha is 1, RGBA otherwise (EXR: always RGBA).
