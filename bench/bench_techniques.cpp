@@ -5,7 +5,10 @@
 // family of Policarpo and Oliveira 2007 at the chapter's 15 steps), the frame
 // time and, as user counters, ns per fragment and texture fetches, search steps and shadow steps
 // per fragment. The scene's self-shadow and depth correction stay on. Linear step counts are
-// fixed (min_steps = steps), as in the papers. One line of kCases adds a technique.
+// fixed (min_steps = steps), as in the papers. One line of kCases adds a technique. Relief 10 + 5
+// runs twice, with Blinn-Phong and with the metallic-roughness BRDF; interleave them to compare:
+//   build/bench/bench_techniques --benchmark_filter='Relief_10_5' --benchmark_repetitions=9
+//     --benchmark_enable_random_interleaving=true --benchmark_report_aggregates_only=true
 //
 //   build/bench/bench_techniques --benchmark_repetitions=5 --benchmark_report_aggregates_only=true
 #include "bench/bench_util.h"
@@ -19,6 +22,11 @@ const TechniqueCase kCases[] = {
     {"SteepParallax_32", "steep_parallax", {{"steps", "32"}}},
     {"Pom_32", "pom", {{"steps", "32"}, {"min_steps", "32"}}},
     {"Relief_10_5", "relief", {{"steps", "10"}, {"min_steps", "10"}, {"binary_steps", "5"}}},
+    // the same with the glTF metallic-roughness BRDF in place of Blinn-Phong (issue 24's cost)
+    {"Relief_10_5_MetallicRoughness",
+     "relief",
+     {{"steps", "10"}, {"min_steps", "10"}, {"binary_steps", "5"}},
+     true},
     {"Relief_32_8", "relief", {{"steps", "32"}, {"min_steps", "32"}, {"binary_steps", "8"}}},
     {"Exact", "exact", {}},
     {"Cone_15", "cone", {{"steps", "15"}}},  // GPU Gems 3 ch. 18, figure 18-1 settings

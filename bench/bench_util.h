@@ -18,6 +18,9 @@ struct TechniqueCase {
   const char* name;  // the benchmark's name after its prefix
   const char* technique;
   std::map<std::string, std::string> params;
+  // Light every material with the glTF metallic-roughness BRDF (a dielectric of roughness 0.5)
+  // in place of the scene's Blinn-Phong (docs/scene-format.md, "Shading").
+  bool metallic_roughness = false;
 };
 
 // Renders the built-in scene `scene_name` at 1024 x 768 on 2 threads with `c`'s technique and
@@ -28,6 +31,12 @@ struct TechniqueCase {
 inline WorkCounters time_technique(benchmark::State& state, const char* scene_name,
                                    const TechniqueCase& c) {
   Result<Scene> scene = make_builtin_scene(scene_name);
+  if (scene.ok() && c.metallic_roughness)
+    for (Material& m : scene->materials) {
+      m.shading = ShadingModel::kMetallicRoughness;
+      m.metallic = 0.0f;
+      m.roughness = 0.5f;
+    }
   RenderOptions opt;
   opt.width = 1024;
   opt.height = 768;
