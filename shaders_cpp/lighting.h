@@ -75,25 +75,35 @@ inline F vpow(F x, float e) {
   return vpow_fast(x, e);
 }
 
-// Shades point p with unit normal n, seen from the eye along unit v (point -> eye).
-// visibility(i, l) returns the fraction of light i reaching p along l (self-shadow, shadow maps).
-template <class F, class Visibility>
-inline V3<F> blinn_phong(const FrameUniforms& frame, const MaterialUniforms& mat, V3<F> p, V3<F> n,
-                         V3<F> v, V3<F> albedo, Visibility&& visibility) {
-  V3<F> c = albedo * V3<F>(frame.ambient);
+// The ambient term `ambient_albedo` x ambient plus, for each light, its radiance x brdf_cos(l,
+// n.l) x visibility(i, l, lit) on the lanes the light reaches (n.l > 0); a light no lane faces is
+// skipped, visibility included.
+template <class F, class Visibility, class BrdfCos>
+inline V3<F> sum_lights(const FrameUniforms& frame, V3<F> p, V3<F> n, V3<F> ambient_albedo,
+                        Visibility&& visibility, BrdfCos&& brdf_cos) {
+  V3<F> c = ambient_albedo * V3<F>(frame.ambient);
   for (int i = 0; i < frame.num_lights; ++i) {
     const LightSample<F> ls = light_sample<F>(frame.lights[i], p);
     const F ndotl = dot(n, ls.l);
     const mask_t<F> lit = ndotl > F(0.0f);
     if (none(lit)) continue;
     const F vis = visibility(i, ls.l, lit);
-    const V3<F> h = normalize(ls.l + v);
-    const F spec = vpow(vmax(dot(n, h), F(0.0f)), mat.shininess) * F(mat.specular);
-    const F diffuse = vmax(ndotl, F(0.0f));
-    const V3<F> contrib = (albedo * diffuse + V3<F>(spec, spec, spec)) * vis;
+    const V3<F> contrib = brdf_cos(ls.l, vmax(ndotl, F(0.0f))) * vis;
     c += select(lit, ls.radiance * contrib, V3<F>(F(0.0f), F(0.0f), F(0.0f)));
   }
   return c;
+}
+
+// Shades point p with unit normal n, seen from the eye along unit v (point -> eye).
+// visibility(i, l) returns the fraction of light i reaching p along l (self-shadow, shadow maps).
+template <class F, class Visibility>
+inline V3<F> blinn_phong(const FrameUniforms& frame, const MaterialUniforms& mat, V3<F> p, V3<F> n,
+                         V3<F> v, V3<F> albedo, Visibility&& visibility) {
+  return sum_lights(frame, p, n, albedo, visibility, [&](V3<F> l, F ndotl) {
+    const V3<F> h = normalize(l + v);
+    const F spec = vpow(vmax(dot(n, h), F(0.0f)), mat.shininess) * F(mat.specular);
+    return albedo * ndotl + V3<F>(spec, spec, spec);
+  });
 }
 
 // What a surface is at the shaded point, before lighting: the base colour (linear, texture and
@@ -147,17 +157,9 @@ inline V3<F> metallic_roughness_brdf_cos(const SurfaceColor<F>& s, V3<F> n, V3<F
 template <class F, class Visibility>
 inline V3<F> metallic_roughness(const FrameUniforms& frame, V3<F> p, V3<F> n, V3<F> v,
                                 const SurfaceColor<F>& s, Visibility&& visibility) {
-  V3<F> c = s.albedo * V3<F>(frame.ambient);
-  for (int i = 0; i < frame.num_lights; ++i) {
-    const LightSample<F> ls = light_sample<F>(frame.lights[i], p);
-    const F ndotl = dot(n, ls.l);
-    const mask_t<F> lit = ndotl > F(0.0f);
-    if (none(lit)) continue;
-    const F vis = visibility(i, ls.l, lit);
-    const V3<F> contrib = metallic_roughness_brdf_cos(s, n, v, ls.l, vmax(ndotl, F(0.0f))) * vis;
-    c += select(lit, ls.radiance * contrib, V3<F>(F(0.0f), F(0.0f), F(0.0f)));
-  }
-  return c;
+  return sum_lights(frame, p, n, s.albedo, visibility, [&](V3<F> l, F ndotl) {
+    return metallic_roughness_brdf_cos(s, n, v, l, ndotl);
+  });
 }
 
 // The direct light at p by the material's shading model (ambient term included).
