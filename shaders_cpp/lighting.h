@@ -122,34 +122,57 @@ struct SurfaceColor {
 // alpha^2) + alpha^2)); returns
 // ((1 - F) c_diff / pi + F D V) n.l. n.v is clamped to [0, 1]: a normal-mapped normal may face
 // away from the eye, and with alpha >= kMinGgxAlpha and n.l > 0 the sum stays finite.
+// What the BRDF needs of a surface and view that no light changes: made once per fragment.
 template <class F>
-inline V3<F> metallic_roughness_brdf_cos(const SurfaceColor<F>& s, V3<F> n, V3<F> v, V3<F> l,
+struct BrdfSurface {
+  V3<F> f0, diffuse;  // Fresnel at normal incidence; c_diff / pi
+  F alpha, a2, nv;    // GGX alpha (clamped), alpha^2, n.v clamped to [0, 1]
+};
+
+template <class F>
+inline BrdfSurface<F> brdf_surface(const SurfaceColor<F>& s, V3<F> n, V3<F> v) {
+  constexpr float kInvPi = 0.318309886f;
+  BrdfSurface<F> b;
+  const F metallic = saturate(s.metallic);
+  b.alpha = vmax(saturate(s.roughness) * saturate(s.roughness), F(kMinGgxAlpha));
+  b.a2 = b.alpha * b.alpha;
+  b.nv = saturate(dot(n, v));
+  const F dielectric = F(0.04f) * (F(1.0f) - metallic);
+  b.f0 = V3<F>(dielectric, dielectric, dielectric) + s.albedo * metallic;
+  b.diffuse = s.albedo * ((F(1.0f) - metallic) * F(kInvPi));
+  return b;
+}
+
+// The BRDF times n.l for light direction l, from the fragment's brdf_surface.
+template <class F>
+inline V3<F> metallic_roughness_brdf_cos(const BrdfSurface<F>& b, V3<F> n, V3<F> v, V3<F> l,
                                          F ndotl) {
   constexpr float kInvPi = 0.318309886f;
-  const F metallic = saturate(s.metallic);
-  const F alpha = vmax(saturate(s.roughness) * saturate(s.roughness), F(kMinGgxAlpha));
-  const F a2 = alpha * alpha;
+  const F alpha = b.alpha, a2 = b.a2, nv = b.nv;
   const V3<F> h = normalize(l + v);
-  const F nv = saturate(dot(n, v));
   const F nh = saturate(dot(n, h));
   const F vh = saturate(dot(v, h));
-  const F dielectric = F(0.04f) * (F(1.0f) - metallic);
-  const V3<F> f0 = V3<F>(dielectric, dielectric, dielectric) + s.albedo * metallic;
   const F m = F(1.0f) - vh;
   const F m5 = (m * m) * (m * m) * m;
-  const V3<F> fresnel = f0 + (V3<F>(F(1.0f), F(1.0f), F(1.0f)) - f0) * m5;
+  const V3<F> fresnel = b.f0 + (V3<F>(F(1.0f), F(1.0f), F(1.0f)) - b.f0) * m5;
   // D as alpha^2 / (pi (sin^2 + (n.h alpha)^2)^2), sin^2 = 1 - (n.h)^2 = |n x h|^2 without the
   // cancellation of 1 - (n.h)^2 near the peak (Filament's form; 1e-3 relative at alpha 0.01)
-  const V3<F> nxh = cross(n, h);
   // (>= alpha^2 for a unit h; the bound also keeps h = 0, l = -v, finite)
+  const V3<F> nxh = cross(n, h);
   const F k = alpha / vmax(dot(nxh, nxh) + (nh * alpha) * (nh * alpha), a2);
   const F d = k * k * F(kInvPi);
   const F gv = ndotl * vsqrt(nv * nv * (F(1.0f) - a2) + a2);
   const F gl = nv * vsqrt(ndotl * ndotl * (F(1.0f) - a2) + a2);
   const F vis = F(0.5f) / vmax(gv + gl, F(1e-12f));
-  const V3<F> diffuse = s.albedo * ((F(1.0f) - metallic) * F(kInvPi));
   const V3<F> one(F(1.0f), F(1.0f), F(1.0f));
-  return ((one - fresnel) * diffuse + fresnel * (d * vis)) * ndotl;
+  return ((one - fresnel) * b.diffuse + fresnel * (d * vis)) * ndotl;
+}
+
+// The same for a surface colour (tests; one light).
+template <class F>
+inline V3<F> metallic_roughness_brdf_cos(const SurfaceColor<F>& s, V3<F> n, V3<F> v, V3<F> l,
+                                         F ndotl) {
+  return metallic_roughness_brdf_cos(brdf_surface(s, n, v), n, v, l, ndotl);
 }
 
 // The metallic-roughness counterpart of blinn_phong: the ambient term (base colour x ambient, a
@@ -157,8 +180,9 @@ inline V3<F> metallic_roughness_brdf_cos(const SurfaceColor<F>& s, V3<F> n, V3<F
 template <class F, class Visibility>
 inline V3<F> metallic_roughness(const FrameUniforms& frame, V3<F> p, V3<F> n, V3<F> v,
                                 const SurfaceColor<F>& s, Visibility&& visibility) {
+  const BrdfSurface<F> b = brdf_surface(s, n, v);  // once, whatever the number of lights
   return sum_lights(frame, p, n, s.albedo, visibility, [&](V3<F> l, F ndotl) {
-    return metallic_roughness_brdf_cos(s, n, v, l, ndotl);
+    return metallic_roughness_brdf_cos(b, n, v, l, ndotl);
   });
 }
 

@@ -475,40 +475,54 @@ vec3 blinn_phong(vec3 p, vec3 n, vec3 v, vec3 albedo) {
   return c;
 }
 
-// metallic_roughness_brdf_cos: the glTF 2.0 metallic-roughness BRDF (appendix B) times n.l.
-vec3 metallic_roughness_brdf_cos(vec3 albedo, vec2 mr, vec3 n, vec3 v, vec3 l, float ndotl) {
+// BrdfSurface, brdf_surface: what no light changes, made once per fragment (shaders_cpp/lighting.h).
+struct BrdfSurface {
+  vec3 f0, diffuse;
+  float alpha, a2, nv;
+};
+
+BrdfSurface brdf_surface(vec3 albedo, vec2 mr, vec3 n, vec3 v) {
   const float kInvPi = 0.318309886;
+  BrdfSurface b;
   float metallic = clamp(mr.x, 0.0, 1.0);
-  float alpha = max(clamp(mr.y, 0.0, 1.0) * clamp(mr.y, 0.0, 1.0), kMinGgxAlpha);
-  float a2 = alpha * alpha;
+  b.alpha = max(clamp(mr.y, 0.0, 1.0) * clamp(mr.y, 0.0, 1.0), kMinGgxAlpha);
+  b.a2 = b.alpha * b.alpha;
+  b.nv = clamp(dot(n, v), 0.0, 1.0);
+  float dielectric = 0.04 * (1.0 - metallic);
+  b.f0 = vec3(dielectric, dielectric, dielectric) + albedo * metallic;
+  b.diffuse = albedo * ((1.0 - metallic) * kInvPi);
+  return b;
+}
+
+// metallic_roughness_brdf_cos: the glTF 2.0 metallic-roughness BRDF (appendix B) times n.l.
+vec3 metallic_roughness_brdf_cos(BrdfSurface b, vec3 n, vec3 v, vec3 l, float ndotl) {
+  const float kInvPi = 0.318309886;
+  float alpha = b.alpha, a2 = b.a2, nv = b.nv;
   vec3 h = normalize_safe(l + v);
-  float nv = clamp(dot(n, v), 0.0, 1.0);
   float nh = clamp(dot(n, h), 0.0, 1.0);
   float vh = clamp(dot(v, h), 0.0, 1.0);
-  float dielectric = 0.04 * (1.0 - metallic);
-  vec3 f0 = vec3(dielectric, dielectric, dielectric) + albedo * metallic;
   float m = 1.0 - vh;
   float m5 = (m * m) * (m * m) * m;
-  vec3 fresnel = f0 + (vec3(1.0) - f0) * m5;
+  vec3 fresnel = b.f0 + (vec3(1.0) - b.f0) * m5;
   vec3 nxh = cross(n, h);
   float k = alpha / max(dot(nxh, nxh) + (nh * alpha) * (nh * alpha), a2);
   float d = k * k * kInvPi;
   float gv = ndotl * sqrt(nv * nv * (1.0 - a2) + a2);
   float gl = nv * sqrt(ndotl * ndotl * (1.0 - a2) + a2);
   float vis = 0.5 / max(gv + gl, 1e-12);
-  vec3 diffuse = albedo * ((1.0 - metallic) * kInvPi);
-  return ((vec3(1.0) - fresnel) * diffuse + fresnel * (d * vis)) * ndotl;
+  return ((vec3(1.0) - fresnel) * b.diffuse + fresnel * (d * vis)) * ndotl;
 }
 
 // metallic_roughness: ambient term plus each light's BRDF x cos x radiance x visibility.
 vec3 metallic_roughness(vec3 p, vec3 n, vec3 v, vec3 albedo, vec2 mr) {
   vec3 c = albedo * frame.ambient;
+  BrdfSurface b = brdf_surface(albedo, mr, n, v);
   for (int i = 0; i < frame.num_lights; ++i) {
     LightSample ls = light_sample(frame.lights[i], p);
     float ndotl = dot(n, ls.l);
     if (!(ndotl > 0.0)) continue;
     float vis = visibility(i, ls.l);
-    c += ls.radiance * (metallic_roughness_brdf_cos(albedo, mr, n, v, ls.l, ndotl) * vis);
+    c += ls.radiance * (metallic_roughness_brdf_cos(b, n, v, ls.l, ndotl) * vis);
   }
   return c;
 }
