@@ -215,6 +215,16 @@ void unsupported_extensions(const json& doc, std::vector<GltfIgnored>& out) {
   }
 }
 
+}  // namespace
+
+bool relief_extension_is_blinn_phong(const nlohmann::json& ext) {
+  if (!ext.is_object()) return false;
+  if (auto s = ext.find("shading"); s != ext.end()) return *s == "blinn_phong";
+  return ext.contains("specular") || ext.contains("shininess");
+}
+
+namespace {
+
 // Core material properties a Blinn-Phong material does not shade with (metallic-roughness).
 // `sampler_users` gets the materials each sampler's textures serve.
 void ignored_material_properties(const json& doc, std::map<int, std::set<int>>& sampler_users,
@@ -233,8 +243,7 @@ void ignored_material_properties(const json& doc, std::map<int, std::set<int>>& 
     bool blinn_phong = false;
     if (auto ex = m.find("extensions"); ex != m.end() && ex->is_object())
       if (auto r = ex->find("RELIEF_relief_mapping"); r != ex->end() && r->is_object())
-        blinn_phong = r->contains("shading") ? (*r)["shading"] == "blinn_phong"
-                                             : r->contains("specular") || r->contains("shininess");
+        blinn_phong = relief_extension_is_blinn_phong(*r);
     if (auto pbr = m.find("pbrMetallicRoughness");
         blinn_phong && pbr != m.end() && pbr->is_object()) {
       if (pbr->contains("metallicRoughnessTexture")) props.push_back("metallicRoughnessTexture");

@@ -52,6 +52,11 @@ struct GltfIgnored {
 // set relief does not read (TEXCOORD_2.., COLOR_1..). Ordered by pointer, deterministic.
 std::vector<GltfIgnored> find_ignored_features(const nlohmann::json& doc);
 
+// Whether a material's RELIEF_relief_mapping object `ext` lights it with Blinn-Phong:
+// "shading": "blinn_phong", or no "shading" and specular or shininess given (files relief wrote
+// before metallic-roughness). The one rule of the loader and of the ignored-property scan.
+bool relief_extension_is_blinn_phong(const nlohmann::json& ext);
+
 // "<path>: <pointer>: <what>" on one line (the loader's warning and --strict error text).
 std::string ignored_line(const std::string& path, const GltfIgnored& g);
 

@@ -243,18 +243,12 @@ Status Reader::read_relief_material(const json& e, const std::string& ep, Materi
   RELIEF_RETURN_IF_ERROR(get_bool(e, "receives_shadow", ep, mat.receives_shadow));
   // "shading": "blinn_phong" | "metallic_roughness"; a file that gives specular or shininess and
   // no shading was written for Blinn-Phong (relief before metallic-roughness) and keeps it.
-  if (e.contains("shading")) {
-    const json& sh = e["shading"];
-    if (sh == "blinn_phong")
-      mat.shading = ShadingModel::kBlinnPhong;
-    else if (sh == "metallic_roughness")
-      mat.shading = ShadingModel::kMetallicRoughness;
-    else
-      return fail(ep + "/shading",
-                  "expected \"blinn_phong\" or \"metallic_roughness\", got " + sh.dump());
-  } else if (e.contains("specular") || e.contains("shininess")) {
-    mat.shading = ShadingModel::kBlinnPhong;
-  }
+  if (e.contains("shading") && e["shading"] != "blinn_phong" &&
+      e["shading"] != "metallic_roughness")
+    return fail(ep + "/shading",
+                "expected \"blinn_phong\" or \"metallic_roughness\", got " + e["shading"].dump());
+  mat.shading = relief_extension_is_blinn_phong(e) ? ShadingModel::kBlinnPhong
+                                                   : ShadingModel::kMetallicRoughness;
   double specular = mat.specular, shininess = mat.shininess;
   RELIEF_RETURN_IF_ERROR(get_number(e, "specular", ep, specular, 0.0, 1e6));
   RELIEF_RETURN_IF_ERROR(get_number(e, "shininess", ep, shininess, 0.0, 1e6));
