@@ -355,7 +355,7 @@ struct RenderJob {
   int spp = 1;
   int k = 1;  // supersampling grid side
   float exposure = 0.0f;
-  ToneCurve tone = ToneCurve::kNone;  // for 8-bit outputs (apps/output.h image_is_8bit)
+  ToneCurve tone = ToneCurve::kNone;  // for 8-bit outputs (scene/image_io.h image_is_8bit)
   bool tone_asked = false;            // --tonemap given (else the default of the scene's source)
   OutputAlpha alpha_mode = OutputAlpha::kNone;
   std::vector<int> frames;  // this shard's

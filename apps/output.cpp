@@ -32,13 +32,6 @@ Status OutputCheck::add(const std::string& option, const std::string& path, Kind
   return {};
 }
 
-bool image_is_8bit(const std::string& path) {
-  std::string ext = std::filesystem::path(path).extension().string();  // as encode_image reads it
-  std::transform(ext.begin(), ext.end(), ext.begin(),
-                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-  return ext == ".png";
-}
-
 Status parse_output_alpha(const std::string& text, OutputAlpha& mode) {
   if (text == "none")
     mode = OutputAlpha::kNone;

@@ -41,11 +41,6 @@ inline int output_channels(OutputAlpha mode) {
   return mode == OutputAlpha::kNone ? 3 : 4;
 }
 
-// Whether `path` is written as 8-bit sRGB-encoded colour (.png, any case: scene/image_io.h
-// encode_image), the display-referred files `relief render --tonemap` maps. The float and
-// 16-bit linear files (.exr, .tif, .tiff) are false: they stay linear.
-bool image_is_8bit(const std::string& path);
-
 // "WxH" -> width and height, each in 1..kMaxTargetSize, at most kMaxTargetPixels in all.
 Status parse_size(const std::string& text, int& width, int& height);
 inline constexpr long long kMaxTargetPixels = 64LL * 1024 * 1024;

@@ -512,6 +512,10 @@ Result<Image> load_environment(const std::string& path, long long* replaced) {
   return img;
 }
 
+bool image_is_8bit(const std::string& path) {
+  return lower_extension(path) == ".png";
+}
+
 Result<std::vector<unsigned char>> encode_image(const std::string& path, const Image& image) {
   bool opaque = true;
   for (const glm::vec4& p : image.pixels) opaque = opaque && p.a == 1.0f;
@@ -528,7 +532,7 @@ Result<std::vector<unsigned char>> encode_image(const std::string& path, const I
   const size_t n = image.pixels.size();
   const int ch = channels == 3 ? 3 : 4;
   if (ext == ".png" || ext == ".tif" || ext == ".tiff") {
-    const bool png = ext == ".png";
+    const bool png = image_is_8bit(path);
     OIIO::ImageSpec spec(image.width, image.height, ch,
                          png ? OIIO::TypeDesc::UINT8 : OIIO::TypeDesc::UINT16);
     spec.attribute("oiio:UnassociatedAlpha", premultiplied && !png ? 0 : 1);

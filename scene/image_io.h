@@ -90,6 +90,9 @@ Result<std::vector<unsigned char>> encode_image(const std::string& path, const I
 // alpha dropped) or 4 (RGBA; `premultiplied` marks an EXR's or TIFF's alpha as associated).
 Result<std::vector<unsigned char>> encode_image(const std::string& path, const Image& image,
                                                 int channels, bool premultiplied);
+// Whether encode_image writes `path` as 8-bit sRGB-encoded colour (.png, any case): the
+// display-referred files `relief render --tonemap` maps; .exr, .tif and .tiff stay linear.
+bool image_is_8bit(const std::string& path);
 Result<std::vector<unsigned char>> encode_plane(const std::string& path, const Plane& plane);
 // OK when `path` ends in an extension write_image and write_plane know (.png .exr .tif .tiff,
 // any case); else a usage error (exit 2) starting with `path`.
