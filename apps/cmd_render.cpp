@@ -19,6 +19,7 @@
 #include <nlohmann/json.hpp>
 
 #include "apps/commands.h"
+#include "apps/environment_option.h"
 #include "apps/frames.h"
 #include "apps/output.h"
 #include "apps/scene_source.h"
@@ -64,6 +65,7 @@ struct RenderArgs {
   bool log_json = false;
   std::string spp = "1";
   std::string exposure = "0";
+  EnvironmentArgs env;         // --env, --env-intensity, --env-rotation
   std::string tonemap;         // --tonemap
   bool tonemap_given = false;  // else the default of the scene's source
   std::string alpha = "none";  // --alpha (apps/output.h OutputAlpha)
@@ -413,6 +415,7 @@ Status parse_frame_options(const RenderArgs& a, RenderJob& job) {
   opt.self_shadow = !a.no_self_shadow;
   opt.shadow = a.shadow;
   RELIEF_RETURN_IF_ERROR(parse_params(a.params, opt));
+  RELIEF_RETURN_IF_ERROR(apply_environment_options(a.env, opt));
   job.names = OutputNames{a.output, {}, a.stats};
   return parse_aovs(a.aovs, opt, job.names);
 }
@@ -868,6 +871,7 @@ void register_render(CLI::App& app, Action& action) {
   sub->add_option("--exposure", a->exposure,
                   "Exposure in stops: linear colour times 2^EV before the output transform")
       ->capture_default_str();
+  add_environment_options(*sub, a->env);
   sub->add_option("--tonemap", a->tonemap,
                   "Tone curve for 8-bit outputs (.png): none (clamp), aces (ACES filmic, Hill's "
                   "fit) or pbr-neutral (Khronos PBR Neutral); default pbr-neutral for a glTF "

@@ -24,9 +24,9 @@ struct FlatKernel {
     ShadeOut<F> o;
     V3<F> n = normalize(in.normal);
     if (!in.front_facing) n = -n;
-    const SurfaceColor<F> sc = sample_surface(m, kBaseColorSlot, in.uv, in, o.fetches, &o.alpha);
+    SurfaceColor<F> sc = sample_surface(m, kBaseColorSlot, in.uv, in, o.fetches, &o.alpha);
     const V3<F> v = to_eye(*ctx.frame, in.position);
-    o.color = finish_surface(ctx, in, in.uv, sc.albedo, o.fetches, [&] {
+    o.color = finish_surface(ctx, in, in.uv, sc, o.fetches, [&] {
       return shade_lights<kReceive>(ctx, in.position, n, n, v, sc, o.fetches);
     });
     o.hit_uv = in.uv;

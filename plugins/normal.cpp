@@ -29,10 +29,10 @@ struct NormalKernel {
     ShadeOut<F> o;
     const TangentFrame<F> tf = fragment_frame(in);
     const V3<F> n = sample_normal_map(m, kNormalSlot, tf, in.uv, in, F(m.params[0]), o.fetches);
-    const SurfaceColor<F> sc = sample_surface(m, kBaseColorSlot, in.uv, in, o.fetches, &o.alpha);
+    SurfaceColor<F> sc = sample_surface(m, kBaseColorSlot, in.uv, in, o.fetches, &o.alpha);
     const V3<F> v = to_eye(*ctx.frame, in.position);
     // shadow maps compare against the polygon's plane (tf.n), which is where the point is
-    o.color = finish_surface(ctx, in, in.uv, sc.albedo, o.fetches, [&] {
+    o.color = finish_surface(ctx, in, in.uv, sc, o.fetches, [&] {
       return shade_lights<kReceive>(ctx, in.position, n, tf.n, v, sc, o.fetches);
     });
     o.hit_uv = in.uv;

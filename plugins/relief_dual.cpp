@@ -104,7 +104,7 @@ struct DualKernel {
         o.fetches +=
             F(read_cost<TextureDepth>() + read_cost<Back>()) + select(on_back, F(1.0f), F(0.0f));
       }
-      const SurfaceColor<F> sc = sample_surface(m, kBaseColorSlot, hit.uv, in, o.fetches, &o.alpha);
+      SurfaceColor<F> sc = sample_surface(m, kBaseColorSlot, hit.uv, in, o.fetches, &o.alpha);
       auto visibility = [&](int i, V3<F> l, mask_t<F> lit) -> F {
         F vis(1.0f);
         if constexpr (kShadow) {
@@ -125,7 +125,7 @@ struct DualKernel {
         }
         return vis;
       };
-      o.color = finish_surface(ctx, in, hit.uv, sc.albedo, o.fetches, [&] {
+      o.color = finish_surface(ctx, in, hit.uv, sc, o.fetches, [&] {
         return shade_direct(*ctx.frame, m, pos, n, -w, sc, visibility);
       });
       o.shading_normal = n;

@@ -134,8 +134,8 @@ struct QuadricKernel {
       return o;
     } else {
       const V3<F> nrm = sample_normal_map(m, kNormalSlot, tf, hit_uv, in, F(1.0f), o.fetches);
-      const SurfaceColor<F> sc = sample_surface(m, kBaseColorSlot, hit_uv, in, o.fetches, &o.alpha);
-      o.color = finish_surface(ctx, in, hit_uv, sc.albedo, o.fetches, [&] {
+      SurfaceColor<F> sc = sample_surface(m, kBaseColorSlot, hit_uv, in, o.fetches, &o.alpha);
+      o.color = finish_surface(ctx, in, hit_uv, sc, o.fetches, [&] {
         return shade_lights<kReceive>(ctx, pos, nrm, nrm, -w, sc, o.fetches);
       });
       o.shading_normal = nrm;

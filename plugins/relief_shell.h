@@ -262,7 +262,7 @@ struct ReliefKernel {
       return o;
     } else {
       const V3<F> n = sample_normal_map(m, kNormalSlot, tf, hit.uv, in, F(1.0f), o.fetches);
-      const SurfaceColor<F> sc = sample_surface(m, kBaseColorSlot, hit.uv, in, o.fetches, &o.alpha);
+      SurfaceColor<F> sc = sample_surface(m, kBaseColorSlot, hit.uv, in, o.fetches, &o.alpha);
       // lighting at the displaced point: self-shadow ray, then the light's shadow map (lit lanes)
       auto visibility = [&](int i, V3<F> l, mask_t<F> lit) -> F {
         F vis(1.0f);
@@ -280,7 +280,7 @@ struct ReliefKernel {
         }
         return vis;
       };
-      o.color = finish_surface(ctx, in, hit.uv, sc.albedo, o.fetches, [&] {
+      o.color = finish_surface(ctx, in, hit.uv, sc, o.fetches, [&] {
         return shade_direct(*ctx.frame, m, pos, n, -w, sc, visibility);
       });
       o.shading_normal = n;

@@ -158,24 +158,23 @@ V3<F> shade_lights(const ShadeContext& ctx, const V3<F>& p, const V3<F>& n, cons
 }
 
 // The material-wide terms of every plugin's final colour (glTF): `lit()` (the lit colour of
-// `albedo`) unless the material is unlit (then albedo itself: no lights, no shadows, no other
-// term); the occlusion texture's red channel, by occlusion_strength, on the ambient term only;
-// the emissive colour (times its texture) added. uv is the shown point's varying-space uv.
+// `surface`) unless the material is unlit (then its albedo itself: no lights, no shadows, no
+// other term); the occlusion texture's red channel, by occlusion_strength, sets
+// surface.occlusion (which scales the indirect term only) before `lit()` runs; the emissive
+// colour (times its texture) added. uv is the shown point's varying-space uv.
 // gl/shaders/common.glsl finish_surface is the twin.
 template <class F, class Lit>
 V3<F> finish_surface(const ShadeContext& ctx, const FragIn<F>& in, const V2<F>& uv,
-                     const V3<F>& albedo, F& fetches, Lit&& lit) {
+                     SurfaceColor<F>& surface, F& fetches, Lit&& lit) {
   const MaterialUniforms& m = *ctx.material;
-  if (m.unlit) return albedo;
-  V3<F> c = lit();
+  if (m.unlit) return surface.albedo;
   if (const Texture* t = m.occlusion_texture) {
     const SlotUv<F> s = map_uv(m.occlusion_uv, uv, in);
     const F r = texture_grad_call(*t, m.occlusion_sampler, s.uv, s.dx, s.dy).x;
     fetches += F(1.0f);
-    // ambient * (1 + strength * (r - 1)) in place of ambient
-    const F k = F(m.occlusion_strength) * (r - F(1.0f));
-    c += albedo * V3<F>(ctx.frame->ambient) * k;
+    surface.occlusion = surface.occlusion * (F(1.0f) + F(m.occlusion_strength) * (r - F(1.0f)));
   }
+  V3<F> c = lit();
   if (m.emissive != glm::vec3(0.0f)) {
     V3<F> e(m.emissive);
     if (const Texture* t = m.emissive_texture) {

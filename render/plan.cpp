@@ -9,6 +9,7 @@
 #include <glm/geometric.hpp>
 #include <glm/trigonometric.hpp>
 
+#include "bake/environment_bake.h"
 #include "render/derived_maps.h"
 #include "render/render.h"
 #include "render/validate.h"
@@ -378,6 +379,38 @@ Status frame_uniforms(const Scene& scene, const RenderOptions& opt, FrameUniform
   return {};
 }
 
+// The side of the built-in studio environment's equirectangular image: its panels and gradients
+// are soft, and its bake (docs/environment.md) is cached for the process.
+constexpr int kStudioEnvironmentWidth = 512;
+
+// The frame's image-based light: the one asked for, else the studio environment for a scene
+// without lights (when allowed), else none (the scene's ambient colour).
+Status plan_environment(const Scene& scene, const RenderOptions& opt, Plan& plan) {
+  char view[96];
+  std::snprintf(view, sizeof view, " (rotation %g deg, intensity %g)",
+                glm::degrees(std::atan2(opt.env_view.sin_rotation, opt.env_view.cos_rotation)),
+                opt.env_view.intensity);
+  if (opt.environment) {
+    plan.environment = opt.environment;
+    plan.environment_reason = "image-based light " + opt.environment_name + view;
+  } else if (scene.lights.empty() && opt.studio_environment) {
+    Result<DerivedEnvironment> studio = derived_environment(
+        studio_environment(kStudioEnvironmentWidth, kStudioEnvironmentWidth / 2));
+    if (!studio.ok()) return studio.status();
+    plan.environment = studio->maps;
+    plan.environment_reason = "the built-in studio environment" + std::string(view) +
+                              ": the scene has no lights and no --env (" + studio->note + ")";
+  } else {
+    char amb[96];
+    std::snprintf(amb, sizeof amb, "none: the ambient colour (%g, %g, %g) is the indirect light",
+                  scene.ambient.r, scene.ambient.g, scene.ambient.b);
+    plan.environment_reason = amb;
+  }
+  plan.frame.environment = plan.environment.get();
+  plan.frame.env_view = opt.env_view;
+  return {};
+}
+
 }  // namespace
 
 Result<Plan> make_plan(const Scene& scene, const RenderOptions& opt) {
@@ -395,6 +428,7 @@ Result<Plan> make_plan(const Scene& scene, const RenderOptions& opt) {
     if (!used && !plan.materials.empty())  // the first material's plugin names the key
       return undeclared_param_option(*plan.materials.front().plugin, key, opt.params.at(key));
   RELIEF_RETURN_IF_ERROR(frame_uniforms(scene, opt, plan.frame));
+  RELIEF_RETURN_IF_ERROR(plan_environment(scene, opt, plan));
   for (const Instance& inst : scene.instances)
     if (inst.material < 0 || inst.material >= static_cast<int>(scene.materials.size()) ||
         inst.mesh < 0 || inst.mesh >= static_cast<int>(scene.meshes.size()))
@@ -421,6 +455,7 @@ std::string Plan::explain() const {
     os << "not planned:\n";
     for (const std::string& s : skipped) os << "  " << s << "\n";
   }
+  os << "environment: " << environment_reason << "\n";
   os << "materials:\n";
   for (size_t i = 0; i < materials.size(); ++i) {
     const BoundMaterial& b = materials[i];

@@ -37,6 +37,14 @@ struct RenderOptions {
   bool shadows = true;
   bool self_shadow = true;
   ShadowSettings shadow;
+  // Image-based light (docs/environment.md): the baked maps of an environment (`--env`; null:
+  // none), named for --explain, turned and scaled by env_view. Without one, a scene that has no
+  // lights is lit by the built-in studio environment when `studio_environment` is set (a glTF
+  // file without lights renders lit), else by its ambient colour alone.
+  std::shared_ptr<const EnvironmentMaps> environment;
+  std::string environment_name;
+  EnvironmentView env_view;
+  bool studio_environment = true;
 };
 
 // One material bound to its plugin: parameter values in schema order, textures by slot.
@@ -67,7 +75,10 @@ struct PassPlan {
 struct Plan {
   std::vector<BoundMaterial> materials;  // parallel to Scene::materials
   std::vector<PassPlan> passes;
-  FrameUniforms frame;               // main-pass camera and lights
+  FrameUniforms frame;  // main-pass camera and lights
+  // The image-based light frame.environment points into (null: none) and why (for --explain).
+  std::shared_ptr<const EnvironmentMaps> environment;
+  std::string environment_reason;
   ShadowSettings shadow;             // lookups of every shadow pass
   std::vector<std::string> skipped;  // passes not made, and why (for --explain)
   // The main pass's instances in draw order: the OPAQUE and MASK ones in submission order, then

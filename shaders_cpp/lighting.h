@@ -23,6 +23,7 @@
 
 #include <cmath>
 
+#include "shaders_cpp/environment.h"
 #include "shaders_cpp/uniforms.h"
 #include "shaders_cpp/vec.h"
 
@@ -75,13 +76,13 @@ inline F vpow(F x, float e) {
   return vpow_fast(x, e);
 }
 
-// The ambient term `ambient_albedo` x ambient plus, for each light, its radiance x brdf_cos(l,
-// n.l) x visibility(i, l, lit) on the lanes the light reaches (n.l > 0); a light no lane faces is
+// The indirect term `indirect` plus, for each light, its radiance x brdf_cos(l, n.l) x
+// visibility(i, l, lit) on the lanes the light reaches (n.l > 0); a light no lane faces is
 // skipped, visibility included.
 template <class F, class Visibility, class BrdfCos>
-inline V3<F> sum_lights(const FrameUniforms& frame, V3<F> p, V3<F> n, V3<F> ambient_albedo,
+inline V3<F> sum_lights(const FrameUniforms& frame, V3<F> p, V3<F> n, V3<F> indirect,
                         Visibility&& visibility, BrdfCos&& brdf_cos) {
-  V3<F> c = ambient_albedo * V3<F>(frame.ambient);
+  V3<F> c = indirect;
   for (int i = 0; i < frame.num_lights; ++i) {
     const LightSample<F> ls = light_sample<F>(frame.lights[i], p);
     const F ndotl = dot(n, ls.l);
@@ -94,12 +95,23 @@ inline V3<F> sum_lights(const FrameUniforms& frame, V3<F> p, V3<F> n, V3<F> ambi
   return c;
 }
 
-// Shades point p with unit normal n, seen from the eye along unit v (point -> eye).
-// visibility(i, l) returns the fraction of light i reaching p along l (self-shadow, shadow maps).
+// The diffuse light a white Lambertian surface with unit normal n reflects without direct
+// light: the environment's irradiance / pi at n when the frame has one, else the constant
+// `ambient`.
+template <class F>
+inline V3<F> ambient_light(const FrameUniforms& frame, V3<F> n) {
+  if (frame.environment) return env_irradiance(*frame.environment, frame.env_view, n);
+  return V3<F>(frame.ambient);
+}
+
+// Shades point p with unit normal n, seen from the eye along unit v (point -> eye): albedo x
+// ambient_light x occlusion, plus the lights. visibility(i, l) returns the fraction of light i
+// reaching p along l (self-shadow, shadow maps).
 template <class F, class Visibility>
 inline V3<F> blinn_phong(const FrameUniforms& frame, const MaterialUniforms& mat, V3<F> p, V3<F> n,
-                         V3<F> v, V3<F> albedo, Visibility&& visibility) {
-  return sum_lights(frame, p, n, albedo, visibility, [&](V3<F> l, F ndotl) {
+                         V3<F> v, V3<F> albedo, F occlusion, Visibility&& visibility) {
+  const V3<F> indirect = albedo * ambient_light(frame, n) * occlusion;
+  return sum_lights(frame, p, n, indirect, visibility, [&](V3<F> l, F ndotl) {
     const V3<F> h = normalize(l + v);
     const F spec = vpow(vmax(dot(n, h), F(0.0f)), mat.shininess) * F(mat.specular);
     return albedo * ndotl + V3<F>(spec, spec, spec);
@@ -107,11 +119,13 @@ inline V3<F> blinn_phong(const FrameUniforms& frame, const MaterialUniforms& mat
 }
 
 // What a surface is at the shaded point, before lighting: the base colour (linear, texture and
-// vertex colour applied) and, for metallic-roughness materials, metallic and roughness in [0, 1].
+// vertex colour applied), for metallic-roughness materials metallic and roughness in [0, 1], and
+// the fraction of indirect light that reaches it (occlusion texture, height-field occlusion).
 template <class F>
 struct SurfaceColor {
   V3<F> albedo;
   F metallic, roughness;  // set for metallic-roughness materials only
+  F occlusion = F(1.0f);  // multiplies the indirect term only
 };
 
 // The glTF 2.0 metallic-roughness BRDF (specification appendix B) times cos(theta_l) for one light
@@ -175,24 +189,48 @@ inline V3<F> metallic_roughness_brdf_cos(const SurfaceColor<F>& s, V3<F> n, V3<F
   return metallic_roughness_brdf_cos(brdf_surface(s, n, v), n, v, l, ndotl);
 }
 
-// The metallic-roughness counterpart of blinn_phong: the ambient term (base colour x ambient, a
-// constant environment's first-order look) plus each light's BRDF x cos x radiance x visibility.
+// The indirect light a metallic-roughness surface reflects toward v, before occlusion. Without an
+// environment: base colour x ambient (a constant environment's first-order look, as before
+// image-based light). With one, the split-sum image-based light of the Khronos glTF sample
+// viewer (single scattering): specular = prefiltered radiance along reflect(-v, n) at the
+// roughness x (f0 A + B), and the diffuse c_diff x irradiance/pi x (1 - (f0 A + B)), the light
+// the specular lobe did not take. A white dielectric in a constant white environment then
+// returns 1 and a white metal A + B <= 1 (the documented single-scattering loss).
+template <class F>
+inline V3<F> metallic_roughness_indirect(const FrameUniforms& frame, V3<F> n, V3<F> v,
+                                         const SurfaceColor<F>& s, const BrdfSurface<F>& b) {
+  if (!frame.environment) return s.albedo * V3<F>(frame.ambient);
+  const EnvironmentMaps& env = *frame.environment;
+  const F rough = saturate(s.roughness);
+  const V2<F> ab = env_brdf(env, b.nv, rough);
+  const V3<F> spec_weight = b.f0 * ab.x + V3<F>(ab.y, ab.y, ab.y);
+  const V3<F> r = n * (F(2.0f) * dot(n, v)) - v;
+  const V3<F> specular = env_specular(env, frame.env_view, r, rough) * spec_weight;
+  const V3<F> c_diff = s.albedo * (F(1.0f) - saturate(s.metallic));
+  const V3<F> one(F(1.0f), F(1.0f), F(1.0f));
+  const V3<F> diffuse = c_diff * env_irradiance(env, frame.env_view, n) * (one - spec_weight);
+  return diffuse + specular;
+}
+
+// The metallic-roughness counterpart of blinn_phong: the indirect term x occlusion plus each
+// light's BRDF x cos x radiance x visibility.
 template <class F, class Visibility>
 inline V3<F> metallic_roughness(const FrameUniforms& frame, V3<F> p, V3<F> n, V3<F> v,
                                 const SurfaceColor<F>& s, Visibility&& visibility) {
   const BrdfSurface<F> b = brdf_surface(s, n, v);  // once, whatever the number of lights
-  return sum_lights(frame, p, n, s.albedo, visibility, [&](V3<F> l, F ndotl) {
+  const V3<F> indirect = metallic_roughness_indirect(frame, n, v, s, b) * s.occlusion;
+  return sum_lights(frame, p, n, indirect, visibility, [&](V3<F> l, F ndotl) {
     return metallic_roughness_brdf_cos(b, n, v, l, ndotl);
   });
 }
 
-// The direct light at p by the material's shading model (ambient term included).
+// The light at p by the material's shading model: the lights plus the indirect term.
 template <class F, class Visibility>
 inline V3<F> shade_direct(const FrameUniforms& frame, const MaterialUniforms& mat, V3<F> p, V3<F> n,
                           V3<F> v, const SurfaceColor<F>& s, Visibility&& visibility) {
   if (mat.shading == ShadingModel::kMetallicRoughness)
     return metallic_roughness(frame, p, n, v, s, visibility);
-  return blinn_phong(frame, mat, p, n, v, s.albedo, visibility);
+  return blinn_phong(frame, mat, p, n, v, s.albedo, s.occlusion, visibility);
 }
 
 template <class F>

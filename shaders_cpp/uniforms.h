@@ -13,6 +13,7 @@
 
 #include "rasterizer/image.h"
 #include "rasterizer/texture.h"
+#include "shaders_cpp/environment_maps.h"
 
 namespace relief {
 
@@ -75,7 +76,11 @@ struct FrameUniforms {
   glm::vec3 eye{0.0f};           // camera (or light) position, world
   bool orthographic = false;     // eye rays are parallel to view_dir
   glm::vec3 view_dir{0, 0, -1};  // world, for orthographic views
-  glm::vec3 ambient{0.03f};
+  glm::vec3 ambient{0.03f};      // the indirect light when there is no environment
+  // Image-based light (docs/environment.md): when set, it replaces `ambient` as the indirect
+  // light of every material (shaders_cpp/lighting.h indirect_light).
+  const EnvironmentMaps* environment = nullptr;
+  EnvironmentView env_view;
   LightUniform lights[kMaxLights];
   int num_lights = 0;
   AovMask aovs = 0;           // AOVs the pass writes
