@@ -394,6 +394,7 @@ TEST(GlBackend, ImageIsTopDownAndBackgroundIsCleared) {
   RenderOptions opt;
   opt.width = 40;
   opt.height = 30;
+  opt.studio_environment = false;  // lit by the ambient colour alone (the scene has no lights)
   Result<Plan> plan = make_plan(s, opt);
   ASSERT_TRUE(plan.ok()) << plan.status().message();
   Result<RenderResult> r = (*gl)->render(s, *plan);

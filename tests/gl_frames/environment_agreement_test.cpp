@@ -8,6 +8,7 @@
 // same frame with the scene's ambient colour instead differs).
 #include <cmath>
 #include <cstdio>
+#include <ostream>
 #include <string>
 #include <vector>
 
@@ -57,6 +58,10 @@ struct Case {
   const char* technique;
   ShadingModel shading;
 };
+// gtest's name for a case in ctest's list (not its bytes).
+void PrintTo(const Case& c, std::ostream* os) {
+  *os << c.scene << " / " << c.technique << (c.shading == ShadingModel::kBlinnPhong ? " bp" : "");
+}
 
 void expect_environment_agreement(const Case& c) {
   const std::string label = std::string(c.scene) + " / " + c.technique +
