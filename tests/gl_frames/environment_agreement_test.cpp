@@ -127,5 +127,36 @@ INSTANTIATE_TEST_SUITE_P(
              (i.param.shading == kBp ? "_blinn_phong" : "");
     });
 
+// Maps the plan does not own (FrameUniforms::environment set by hand, Plan::environment null) go
+// up for that frame only and give the image the cached upload of the same data gives, bit for bit;
+// the cached maps still serve the next frame.
+TEST(GlEnvironmentUpload, UnownedMapsGiveTheCachedImage) {
+  RELIEF_REQUIRE_GL();
+  Result<Scene> builtin = make_builtin_scene("materials");
+  ASSERT_TRUE(builtin.ok()) << builtin.status().message();
+  const Scene scene = unlit_by_lights(*builtin, ShadingModel::kMetallicRoughness);
+  RenderOptions opt;
+  opt.width = 96;
+  opt.height = 72;
+  opt.technique = "normal";
+  Result<Plan> plan = make_plan(scene, opt);
+  ASSERT_TRUE(plan.ok()) << plan.status().message();
+  ASSERT_NE(plan->environment, nullptr);
+  Backend* gl = gl::testing::shared_gl_backend();
+  ASSERT_NE(gl, nullptr);
+  Result<RenderResult> cached = gl->render(scene, *plan);
+  ASSERT_TRUE(cached.ok()) << cached.status().message();
+  const EnvironmentMaps copy = *plan->environment;
+  Plan unowned = *plan;
+  unowned.environment = nullptr;
+  unowned.frame.environment = &copy;
+  Result<RenderResult> once = gl->render(scene, unowned);
+  ASSERT_TRUE(once.ok()) << once.status().message();
+  EXPECT_EQ(cached->framebuffer.color.pixels, once->framebuffer.color.pixels);
+  Result<RenderResult> again = gl->render(scene, *plan);
+  ASSERT_TRUE(again.ok()) << again.status().message();
+  EXPECT_EQ(cached->framebuffer.color.pixels, again->framebuffer.color.pixels);
+}
+
 }  // namespace
 }  // namespace relief
