@@ -67,6 +67,7 @@ GlBackend::~GlBackend() {
   for (auto& [k, p] : programs_) glDeleteProgram(p.id);
   for (auto& [k, t] : textures_) glDeleteTextures(1, &t.id);
   for (auto& [k, b] : height_fields_) glDeleteBuffers(1, &b.id);
+  for (auto& [k, e] : environments_) glDeleteTextures(2, e.ids);
   GLuint ssbos[] = {empty_field_, counters_};
   glDeleteBuffers(2, ssbos);
   for (auto& [k, s] : samplers_) glDeleteSamplers(1, &s);
@@ -102,6 +103,7 @@ Result<RenderResult> GlBackend::render(const Scene& scene, const Plan& plan) {
   FrameTransients transients;  // what nothing caches dies with the frame, on every return path
   DrawTextures textures;
   RELIEF_RETURN_IF_ERROR(upload_textures(plan, programs, transients, textures));
+  upload_environment(plan, transients, textures);
   if (count_work_) ensure_counters();
   ensure_vertex_array();
   RELIEF_RETURN_IF_ERROR(ensure_target(plan.frame.width, plan.frame.height, plan.frame.aovs != 0));

@@ -5,7 +5,9 @@
 // standard varyings, uploaded as vertex attributes behind a pass-through vertex shader), textures
 // are uploaded from the same in-memory Texture levels (row 0 in memory is v = 0, sRGB colour as
 // GL_SRGB8_ALPHA8), the plugin parameters arrive as the uniform array material.params[] in schema
-// order, lights as frame.lights[] mirroring LightUniform.
+// order, lights as frame.lights[] mirroring LightUniform, the frame's image-based light (if any)
+// as SH uniforms and its specular chain and split-sum table, uploaded once per EnvironmentMaps
+// (docs/environment.md, "On the GL backend").
 //
 // Target: an FBO with RGBA32F colour and GL_DEPTH_COMPONENT32F depth (plus two RGBA32F AOV
 // targets when AOVs are asked for), glClipControl(GL_LOWER_LEFT, GL_ZERO_TO_ONE), depth cleared to

@@ -40,6 +40,7 @@ Status gl_check(const char* where);
 struct Locations {
   GLint view = -1, view_proj = -1, eye = -1, orthographic = -1, view_dir = -1, ambient = -1;
   GLint num_lights = -1, width = -1, height = -1;
+  GLint has_environment = -1, env_sh = -1, env_rotation = -1, env_intensity = -1, env_max_lod = -1;
   struct Light {
     GLint type = -1, position = -1, direction = -1, color = -1, range = -1, inner = -1, outer = -1;
   } lights[kMaxLights];
@@ -124,6 +125,15 @@ struct DrawTextures {
   // per material: emissive, occlusion and metallic-roughness textures, each with its sampler
   std::vector<std::array<GLuint, 6>> extra;
   std::vector<GLuint> fields;
+  // The frame's environment (FrameUniforms::environment): specular chain and split-sum table
+  // with their samplers; 0 without one.
+  GLuint env_specular = 0, env_brdf = 0, env_specular_sampler = 0, env_brdf_sampler = 0;
+};
+
+// An environment's maps as uploaded, cached per EnvironmentMaps while something else holds it.
+struct CachedEnvironment {
+  std::shared_ptr<const EnvironmentMaps> owner;  // keeps the address from being reused
+  GLuint ids[2] = {0, 0};                        // specular chain, split-sum table (0: empty)
 };
 
 // What a pass has bound: the material whose uniforms each program holds, and whether its frame
@@ -175,6 +185,10 @@ class GlBackend final : public Backend {
   Result<GLuint> height_field_for(const BoundMaterial& m, std::vector<GLuint>& transient_buffers);
   GLuint texture_for(const Texture* t, const BoundMaterial& m, Upload upload,
                      std::vector<GLuint>& transient);
+  // The frame's environment maps (FrameUniforms::environment) into textures: cached per
+  // EnvironmentMaps while the plan's owner (Plan::environment) or anyone else holds it, for this
+  // frame only when the plan does not own it; nothing without an environment.
+  void upload_environment(const Plan& plan, FrameTransients& transients, DrawTextures& textures);
   GLuint sampler_for(const SamplerState& s);
   // The work counters' buffer (count) and the vertex array, its buffers and the timer query:
   // made on first use and kept.
@@ -221,6 +235,7 @@ class GlBackend final : public Backend {
   std::map<std::string, Program> programs_;
   std::map<std::pair<const Texture*, Upload>, CachedTexture> textures_;
   std::map<HeightFieldKey, CachedTexture> height_fields_;
+  std::map<const EnvironmentMaps*, CachedEnvironment> environments_;
   GLuint empty_field_ = 0;  // a HeightFieldBuffer with no levels (no depth texture)
   GLuint counters_ = 0;
   std::map<uint32_t, GLuint> samplers_;

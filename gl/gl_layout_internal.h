@@ -10,11 +10,14 @@ namespace relief::gl_layout {
 
 // Texture units: the material's slots at 0 .. kMaxTextureSlots - 1 (common.glsl textures[]), one
 // shadow-map array per light from kShadowUnit (shadow_map.glsl shadow_depth[]), then the glTF
-// emissive, occlusion and metallic-roughness textures (common.glsl).
+// emissive, occlusion and metallic-roughness textures, then the frame's environment: its
+// prefiltered specular chain and split-sum table (common.glsl).
 inline constexpr int kShadowUnit = kMaxTextureSlots;
 inline constexpr int kEmissiveUnit = 16;
 inline constexpr int kOcclusionUnit = 17;
 inline constexpr int kMetallicRoughnessUnit = 18;
+inline constexpr int kEnvSpecularUnit = 19;
+inline constexpr int kEnvBrdfUnit = 20;
 static_assert(kShadowUnit + kMaxLights <= kEmissiveUnit, "shadow units overlap the emissive unit");
 
 // Storage-block bindings.

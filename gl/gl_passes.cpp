@@ -279,6 +279,11 @@ Status GlBackend::main_pass(const Scene& scene, const Plan& plan,
   glViewport(0, 0, w, h);
   glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
   BindCache cache;
+  // The environment (common.glsl env_specular_map, env_brdf_lut): 0 without one (not read then).
+  glBindTextureUnit(kEnvSpecularUnit, textures.env_specular);
+  glBindSampler(kEnvSpecularUnit, textures.env_specular_sampler);
+  glBindTextureUnit(kEnvBrdfUnit, textures.env_brdf);
+  glBindSampler(kEnvBrdfUnit, textures.env_brdf_sampler);
   // BLEND draws: src-over of the straight-alpha colour onto the premultiplied target (the CPU's
   // DrawCall::blend), depth tested but not written, no AOVs.
   glBlendFuncSeparate(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA, GL_ONE, GL_ONE_MINUS_SRC_ALPHA);

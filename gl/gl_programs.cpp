@@ -38,6 +38,11 @@ constexpr NamedLocation kNamedLocations[] = {
     {&Locations::num_lights, "frame.num_lights"},
     {&Locations::width, "frame.width"},
     {&Locations::height, "frame.height"},
+    {&Locations::has_environment, "frame.has_environment"},
+    {&Locations::env_sh, "frame.env_sh[0]"},
+    {&Locations::env_rotation, "frame.env_rotation"},
+    {&Locations::env_intensity, "frame.env_intensity"},
+    {&Locations::env_max_lod, "frame.env_max_lod"},
     {&Locations::params, "material.params[0]"},
     {&Locations::base_color, "material.base_color"},
     {&Locations::specular, "material.specular"},
@@ -127,6 +132,21 @@ void set_gltf_material_terms(GLuint p, const MaterialUniforms& m) {
                      m.occlusion_strength);
   glProgramUniform1f(p, glGetUniformLocation(p, "material.normal_scale"), m.normal_scale);
   glProgramUniform1i(p, glGetUniformLocation(p, "material.unlit"), m.unlit ? 1 : 0);
+}
+
+// The image-based light's uniforms (common.glsl FrameUniforms): has_environment false and nothing
+// else without one.
+void set_environment_uniforms(const Program& program, const FrameUniforms& f) {
+  const GLuint p = program.id;
+  const Locations& l = program.loc;
+  glProgramUniform1i(p, l.has_environment, f.environment ? 1 : 0);
+  if (!f.environment) return;
+  const EnvironmentMaps& env = *f.environment;
+  glProgramUniform3fv(p, l.env_sh, kEnvShCount, &env.sh[0][0]);
+  glProgramUniform2f(p, l.env_rotation, f.env_view.cos_rotation, f.env_view.sin_rotation);
+  glProgramUniform1f(p, l.env_intensity, f.env_view.intensity);
+  const int levels = env.specular.empty() ? 1 : env.specular.levels();
+  glProgramUniform1f(p, l.env_max_lod, static_cast<float>(levels - 1));
 }
 
 }  // namespace
@@ -234,6 +254,7 @@ void set_frame_uniforms(const Program& program, const FrameUniforms& f) {
   glProgramUniform1i(p, l.num_lights, n);
   glProgramUniform1i(p, l.width, f.width);
   glProgramUniform1i(p, l.height, f.height);
+  set_environment_uniforms(program, f);
   for (int i = 0; i < n; ++i) {
     const LightUniform& s = f.lights[i];
     const Locations::Light& d = l.lights[i];

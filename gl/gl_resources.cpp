@@ -58,13 +58,13 @@ GLenum wrap_gl(Wrap w) {
   return GL_REPEAT;
 }
 
-// Deletes (with `del`, glDeleteTextures or glDeleteBuffers) the cached objects whose texture only
+// Deletes (with `del`, given the cache entry) the cached objects whose texture or environment only
 // the cache still holds.
 template <class Map, class Delete>
 void drop_unowned(Map& cache, Delete del) {
   for (auto it = cache.begin(); it != cache.end();) {
     if (it->second.owner.use_count() == 1) {
-      del(1, &it->second.id);
+      del(it->second);
       it = cache.erase(it);
     } else {
       ++it;
@@ -222,8 +222,9 @@ FrameTransients::~FrameTransients() {
 }
 
 void GlBackend::drop_unowned_textures() {
-  drop_unowned(textures_, glDeleteTextures);
-  drop_unowned(height_fields_, glDeleteBuffers);
+  drop_unowned(textures_, [](CachedTexture& t) { glDeleteTextures(1, &t.id); });
+  drop_unowned(height_fields_, [](CachedTexture& b) { glDeleteBuffers(1, &b.id); });
+  drop_unowned(environments_, [](CachedEnvironment& e) { glDeleteTextures(2, e.ids); });
 }
 
 GLuint GlBackend::sampler_for(const SamplerState& s) {
@@ -245,32 +246,71 @@ GLuint GlBackend::sampler_for(const SamplerState& s) {
   return id;
 }
 
-GLuint GlBackend::texture_for(const Texture* t, const BoundMaterial& m, Upload upload,
-                              std::vector<GLuint>& transient) {
-  const std::pair<const Texture*, Upload> key{t, upload};
-  if (auto it = textures_.find(key); it != textures_.end()) return it->second.id;
+namespace {
+
+// A new GL texture of every level of t (never regenerated: the CPU's levels as they are), base
+// level 0, max level levels - 1.
+GLuint create_texture(const Texture& t, Upload upload) {
   const FormatGl f = upload == Upload::kR32F      ? FormatGl{GL_R32F, GL_RED, GL_FLOAT}
                      : upload == Upload::kRGBA32F ? FormatGl{GL_RGBA32F, GL_RGBA, GL_FLOAT}
-                                                  : format_gl(t->format(), t->color_space());
+                                                  : format_gl(t.format(), t.color_space());
   GLuint id = 0;
   glCreateTextures(GL_TEXTURE_2D, 1, &id);
-  glTextureStorage2D(id, t->levels(), f.internal, t->width(0), t->height(0));
+  glTextureStorage2D(id, t.levels(), f.internal, t.width(0), t.height(0));
   glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
   glPixelStorei(GL_UNPACK_ROW_LENGTH, 0);
   // Row 0 in memory is v = 0 in both backends: uploaded as stored, no flip.
   std::vector<float> scratch;
-  for (int l = 0; l < t->levels(); ++l) {
-    const MipLevel& lv = t->level(l);
+  for (int l = 0; l < t.levels(); ++l) {
+    const MipLevel& lv = t.level(l);
     glTextureSubImage2D(id, l, 0, 0, lv.width, lv.height, f.format, f.type,
-                        upload_texels(*t, l, upload, scratch));
+                        upload_texels(t, l, upload, scratch));
   }
   glTextureParameteri(id, GL_TEXTURE_BASE_LEVEL, 0);
-  glTextureParameteri(id, GL_TEXTURE_MAX_LEVEL, t->levels() - 1);
+  glTextureParameteri(id, GL_TEXTURE_MAX_LEVEL, t.levels() - 1);
+  return id;
+}
+
+}  // namespace
+
+GLuint GlBackend::texture_for(const Texture* t, const BoundMaterial& m, Upload upload,
+                              std::vector<GLuint>& transient) {
+  const std::pair<const Texture*, Upload> key{t, upload};
+  if (auto it = textures_.find(key); it != textures_.end()) return it->second.id;
+  const GLuint id = create_texture(*t, upload);
   if (TexturePtr owner = owner_of(m, t))
     textures_.emplace(key, CachedTexture{owner, id});
   else
     transient.push_back(id);  // nothing keeps the address alive: do not cache
   return id;
+}
+
+void GlBackend::upload_environment(const Plan& plan, FrameTransients& transients,
+                                   DrawTextures& textures) {
+  const EnvironmentMaps* env = plan.frame.environment;
+  if (!env) return;
+  auto it = environments_.find(env);
+  if (it == environments_.end()) {
+    // RGBA16F: the CPU's stored halves go up unchanged (format_gl: GL_RGBA16F, GL_HALF_FLOAT).
+    CachedEnvironment c;
+    c.ids[0] = env->specular.empty() ? 0 : create_texture(env->specular, Upload::kNative);
+    c.ids[1] = env->brdf_lut.empty() ? 0 : create_texture(env->brdf_lut, Upload::kNative);
+    if (plan.environment.get() == env) {
+      c.owner = plan.environment;
+      it = environments_.emplace(env, c).first;
+    } else {  // nothing keeps the address alive: for this frame only
+      transients.textures.insert(transients.textures.end(), c.ids, c.ids + 2);
+      textures.env_specular = c.ids[0];
+      textures.env_brdf = c.ids[1];
+    }
+  }
+  if (it != environments_.end()) {
+    textures.env_specular = it->second.ids[0];
+    textures.env_brdf = it->second.ids[1];
+  }
+  // environment_maps.h: the chain trilinear, the table bilinear, both clamped to the edge
+  textures.env_specular_sampler = sampler_for({Filter::kTrilinear, Wrap::kClamp, Wrap::kClamp, 1});
+  textures.env_brdf_sampler = sampler_for({Filter::kBilinear, Wrap::kClamp, Wrap::kClamp, 1});
 }
 
 Result<GLuint> GlBackend::height_field_for(const BoundMaterial& m,

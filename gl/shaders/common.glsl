@@ -1,6 +1,6 @@
 // Shared by every GLSL twin: the fragment ABI of plugins/plugin.h and plugins/shading.h, the
-// tangent frame of shaders_cpp/frame.h and the Blinn-Phong lighting of shaders_cpp/lighting.h
-// (Blinn 1977). Each function keeps its C++ name and follows it line by line; change both
+// tangent frame of shaders_cpp/frame.h, the lighting of shaders_cpp/lighting.h (Blinn 1977, glTF
+// metallic-roughness) and the image-based light lookups of shaders_cpp/environment.h. Each function keeps its C++ name and follows it line by line; change both
 // together.
 //
 // Interface (set by gl/gl_backend.cpp):
@@ -69,7 +69,15 @@ struct FrameUniforms {
   vec3 eye;
   bool orthographic;
   vec3 view_dir;
-  vec3 ambient;
+  vec3 ambient;  // the indirect light when there is no environment
+  // Image-based light (shaders_cpp/environment_maps.h; gl_programs.cpp sets them from
+  // FrameUniforms::environment and env_view): SH of irradiance / pi, the rotation's (cos, sin),
+  // the intensity and the specular chain's last level (levels - 1).
+  bool has_environment;
+  vec3 env_sh[kEnvShCount];
+  vec2 env_rotation;
+  float env_intensity;
+  float env_max_lod;
   LightUniform lights[kMaxLights];
   int num_lights;
   int width;
@@ -117,6 +125,10 @@ uniform bool has_texture[kMaxTextureSlots];
 layout(binding = kEmissiveUnit) uniform sampler2D emissive_texture;
 layout(binding = kOcclusionUnit) uniform sampler2D occlusion_texture;
 layout(binding = kMetallicRoughnessUnit) uniform sampler2D metallic_roughness_texture;
+// The environment's prefiltered specular chain (trilinear, clamp to edge) and split-sum table
+// (bilinear, clamp to edge), bound by gl_passes.cpp when the frame has an environment.
+layout(binding = kEnvSpecularUnit) uniform sampler2D env_specular_map;
+layout(binding = kEnvBrdfUnit) uniform sampler2D env_brdf_lut;
 
 in vec4 vary[kCountGl / 4];
 
@@ -286,20 +298,25 @@ vec4 sample_slot(int slot, vec2 uv, FragIn in_) {
   return textureGrad(textures[slot], t, dx, dy);
 }
 
-// finish_surface: `lit` is the lit colour of albedo, or albedo itself when the material is unlit
-// (the twin computes `material.unlit ? albedo : blinn_phong(...)`); occlusion on the ambient
-// term, emissive added.
+// plugins/surface.h finish_surface, in two parts around the lighting. surface_occlusion: the
+// SurfaceColor::occlusion the occlusion texture's red channel sets by occlusion_strength (1
+// without one, or for an unlit material, which reads nothing), for shade_direct's indirect term;
+// the twin calls it before lighting.
+float surface_occlusion(vec2 uv, FragIn in_, inout float fetches) {
+  if (material.unlit || !material.has_occlusion_texture) return 1.0;
+  vec2 dx, dy;
+  vec2 t = map_uv(material.occlusion_uv, uv, in_, dx, dy);
+  float r = textureGrad(occlusion_texture, t, dx, dy).x;
+  fetches += 1.0;
+  return 1.0 + material.occlusion_strength * (r - 1.0);
+}
+
+// finish_surface: `lit` is the lit colour (occlusion applied), or albedo itself when the material
+// is unlit (the twin computes `material.unlit ? albedo : shade_direct(...)`); emissive added.
 vec3 finish_surface(vec3 lit, vec2 uv, vec3 albedo, FragIn in_, inout float fetches) {
   if (material.unlit) return albedo;
   vec3 c = lit;
   vec2 dx, dy;
-  if (material.has_occlusion_texture) {
-    vec2 t = map_uv(material.occlusion_uv, uv, in_, dx, dy);
-    float r = textureGrad(occlusion_texture, t, dx, dy).x;
-    fetches += 1.0;
-    float k = material.occlusion_strength * (r - 1.0);
-    c += albedo * frame.ambient * k;
-  }
   if (material.emissive != vec3(0.0)) {
     vec3 e = material.emissive;
     if (material.has_emissive_texture) {
@@ -457,9 +474,65 @@ LightSample light_sample(LightUniform light, vec3 p) {
 // The C++ `visibility` functor: each twin defines it (return 1.0 for NoShadow).
 float visibility(int i, vec3 l);
 
-// Shades point p with unit normal n, seen from the eye along unit v (point -> eye).
-vec3 blinn_phong(vec3 p, vec3 n, vec3 v, vec3 albedo) {
-  vec3 c = albedo * frame.ambient;
+// ---- shaders_cpp/environment.h ----
+// +1 for x >= 0 (and +0, -0), else -1: the octahedral fold's signNotZero (not GLSL's sign).
+float sign_not_zero(float x) { return x < 0.0 ? -1.0 : 1.0; }
+
+// Octahedral uv in [0, 1]^2 of direction d (any length; zero reads as +Y).
+vec2 octahedral_uv(vec3 d) {
+  float sum = max(abs(d.x) + abs(d.y) + abs(d.z), 1e-30);
+  float px = d.x / sum, pz = d.z / sum;
+  bool lower = d.y < 0.0;
+  float fx = (1.0 - abs(pz)) * sign_not_zero(px);
+  float fz = (1.0 - abs(px)) * sign_not_zero(pz);
+  return vec2((lower ? fx : px) * 0.5 + 0.5, (lower ? fz : pz) * 0.5 + 0.5);
+}
+
+// World direction w in the environment's frame (x' = c x - s z, z' = s x + c z).
+vec3 env_direction(vec3 w) {
+  float c = frame.env_rotation.x, s = frame.env_rotation.y;
+  return vec3(c * w.x - s * w.z, w.y, s * w.x + c * w.z);
+}
+
+// E(n) / pi times the intensity at unit world normal n, from the 9 SH coefficients.
+vec3 env_irradiance(vec3 n_world) {
+  vec3 n = env_direction(n_world);
+  float y[kEnvShCount];
+  y[0] = 0.28209479177387814;
+  y[1] = 0.48860251190291992 * n.y;
+  y[2] = 0.48860251190291992 * n.z;
+  y[3] = 0.48860251190291992 * n.x;
+  y[4] = 1.09254843059207907 * (n.x * n.y);
+  y[5] = 1.09254843059207907 * (n.y * n.z);
+  y[6] = 0.31539156525252005 * (3.0 * (n.z * n.z) - 1.0);
+  y[7] = 1.09254843059207907 * (n.x * n.z);
+  y[8] = 0.54627421529603959 * (n.x * n.x - n.y * n.y);
+  vec3 e = vec3(0.0);
+  for (int i = 0; i < kEnvShCount; ++i) e += frame.env_sh[i] * y[i];
+  return e * frame.env_intensity;
+}
+
+// Prefiltered radiance times the intensity along r (any length) at perceptual roughness (NaN
+// reads as 0, clamped to [0, 1]): textureLod at roughness * (levels - 1).
+vec3 env_specular(vec3 r, float roughness) {
+  vec2 uv = octahedral_uv(env_direction(r));
+  float rough = clamp(roughness == roughness ? roughness : 0.0, 0.0, 1.0);
+  return textureLod(env_specular_map, uv, rough * frame.env_max_lod).xyz * frame.env_intensity;
+}
+
+// The split-sum (A, B) at NdotV and perceptual roughness, level 0 of the table.
+vec2 env_brdf(float ndotv, float roughness) {
+  return textureLod(env_brdf_lut, vec2(ndotv, roughness), 0.0).xy;
+}
+
+// ---- shaders_cpp/lighting.h (continued) ----
+// ambient_light: irradiance / pi at n with an environment, else the constant ambient.
+vec3 ambient_light(vec3 n) { return frame.has_environment ? env_irradiance(n) : frame.ambient; }
+
+// Shades point p with unit normal n, seen from the eye along unit v (point -> eye): albedo x
+// ambient_light x occlusion, plus the lights.
+vec3 blinn_phong(vec3 p, vec3 n, vec3 v, vec3 albedo, float occlusion) {
+  vec3 c = albedo * ambient_light(n) * occlusion;
   for (int i = 0; i < frame.num_lights; ++i) {
     LightSample ls = light_sample(frame.lights[i], p);
     float ndotl = dot(n, ls.l);
@@ -513,10 +586,25 @@ vec3 metallic_roughness_brdf_cos(BrdfSurface b, vec3 n, vec3 v, vec3 l, float nd
   return ((vec3(1.0) - fresnel) * b.diffuse + fresnel * (d * vis)) * ndotl;
 }
 
-// metallic_roughness: ambient term plus each light's BRDF x cos x radiance x visibility.
-vec3 metallic_roughness(vec3 p, vec3 n, vec3 v, vec3 albedo, vec2 mr) {
-  vec3 c = albedo * frame.ambient;
+// metallic_roughness_indirect: base colour x ambient without an environment; with one the
+// split-sum specular along reflect(-v, n) x (f0 A + B) plus c_diff x irradiance x (1 - (f0 A + B)).
+vec3 metallic_roughness_indirect(vec3 n, vec3 v, vec3 albedo, vec2 mr, BrdfSurface b) {
+  if (!frame.has_environment) return albedo * frame.ambient;
+  float rough = clamp(mr.y, 0.0, 1.0);
+  vec2 ab = env_brdf(b.nv, rough);
+  vec3 spec_weight = b.f0 * ab.x + vec3(ab.y);
+  vec3 r = n * (2.0 * dot(n, v)) - v;
+  vec3 specular = env_specular(r, rough) * spec_weight;
+  vec3 c_diff = albedo * (1.0 - clamp(mr.x, 0.0, 1.0));
+  vec3 diffuse = c_diff * env_irradiance(n) * (vec3(1.0) - spec_weight);
+  return diffuse + specular;
+}
+
+// metallic_roughness: the indirect term x occlusion plus each light's BRDF x cos x radiance x
+// visibility.
+vec3 metallic_roughness(vec3 p, vec3 n, vec3 v, vec3 albedo, vec2 mr, float occlusion) {
   BrdfSurface b = brdf_surface(albedo, mr, n, v);
+  vec3 c = metallic_roughness_indirect(n, v, albedo, mr, b) * occlusion;
   for (int i = 0; i < frame.num_lights; ++i) {
     LightSample ls = light_sample(frame.lights[i], p);
     float ndotl = dot(n, ls.l);
@@ -527,9 +615,10 @@ vec3 metallic_roughness(vec3 p, vec3 n, vec3 v, vec3 albedo, vec2 mr) {
   return c;
 }
 
-// shade_direct: the direct light by the material's shading model (mr from
-// sample_metallic_roughness).
-vec3 shade_direct(vec3 p, vec3 n, vec3 v, vec3 albedo, vec2 mr) {
-  if (material.shading == kShadingMetallicRoughness) return metallic_roughness(p, n, v, albedo, mr);
-  return blinn_phong(p, n, v, albedo);
+// shade_direct: the light at p by the material's shading model, the lights plus the indirect
+// term x occlusion (mr from sample_metallic_roughness, occlusion from surface_occlusion).
+vec3 shade_direct(vec3 p, vec3 n, vec3 v, vec3 albedo, vec2 mr, float occlusion) {
+  if (material.shading == kShadingMetallicRoughness)
+    return metallic_roughness(p, n, v, albedo, mr, occlusion);
+  return blinn_phong(p, n, v, albedo, occlusion);
 }

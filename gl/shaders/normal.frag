@@ -52,8 +52,10 @@ ShadeOut shade(FragIn in_) {
   recv_p = in_.position;
   recv_n = tf.n;
   vec2 mr = sample_metallic_roughness(in_.uv, in_, o.fetches);  // plugins/surface.h sample_surface
+  // plugins/surface.h finish_surface: the occlusion texture, before lighting
+  float occlusion = surface_occlusion(in_.uv, in_, o.fetches);
   recv_fetches = o.fetches;
-  o.color = material.unlit ? albedo : shade_direct(in_.position, n, v, albedo, mr);
+  o.color = material.unlit ? albedo : shade_direct(in_.position, n, v, albedo, mr, occlusion);
   o.fetches = recv_fetches;
   o.color = finish_surface(o.color, in_.uv, albedo, in_, o.fetches);
   o.alpha = base_alpha;

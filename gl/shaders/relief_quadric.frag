@@ -115,8 +115,10 @@ ShadeOut shade(FragIn in_) {
   recv_p = pos;
   recv_n = n;
   vec2 mr = sample_metallic_roughness(hit_uv, in_, o.fetches);  // plugins/surface.h sample_surface
+  // plugins/surface.h finish_surface: the occlusion texture, before lighting
+  float occlusion = surface_occlusion(hit_uv, in_, o.fetches);
   recv_fetches = o.fetches;
-  o.color = material.unlit ? albedo : shade_direct(pos, n, -w, albedo, mr);
+  o.color = material.unlit ? albedo : shade_direct(pos, n, -w, albedo, mr, occlusion);
   o.fetches = recv_fetches;
   o.color = finish_surface(o.color, hit_uv, albedo, in_, o.fetches);
   o.alpha = base_alpha;

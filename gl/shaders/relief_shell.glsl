@@ -107,12 +107,14 @@ ShadeOut shade(FragIn in_) {
   shell_hit = hit;
   shell_depth_scale = depth_scale;
   vec2 mr = sample_metallic_roughness(hit.uv, in_, o.fetches);  // plugins/surface.h sample_surface
+  // plugins/surface.h finish_surface: the occlusion texture, before lighting
+  float occlusion = surface_occlusion(hit.uv, in_, o.fetches);
   shell_out = o;
   shell_pos = pos;
   shell_n = n;
   albedo = albedo * in_.color.rgb;  // COLOR_0 (plugins/surface.h sample_albedo)
   base_alpha *= in_.color.a;
-  vec3 color = material.unlit ? albedo : shade_direct(pos, n, -w, albedo, mr);
+  vec3 color = material.unlit ? albedo : shade_direct(pos, n, -w, albedo, mr, occlusion);
   o = shell_out;
   o.color = finish_surface(color, hit.uv, albedo, in_, o.fetches);
   o.alpha = base_alpha;

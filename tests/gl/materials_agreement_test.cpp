@@ -12,6 +12,7 @@
 #include "render/render.h"
 #include "render/validate.h"
 #include "scene/gltf.h"
+#include "tests/gl/gl_agreement.h"
 #include "tests/gl/gl_test_util.h"
 #include "tests/materials_fixture.h"
 #include "tests/test_dir.h"
@@ -60,38 +61,33 @@ MaterialDoc everything(const std::filesystem::path& dir, const json& relief_ext)
   return d;
 }
 
-// One GL backend for the whole program: its programs compile once.
-Backend* gl_backend() {
-  static std::unique_ptr<Backend> gl = [] {
-    Result<std::unique_ptr<Backend>> b = make_gl_backend();
-    EXPECT_TRUE(b.ok()) << b.status().message();
-    return b.ok() ? std::move(*b) : nullptr;
-  }();
-  return gl.get();
-}
-
-void expect_agreement(const std::string& path, const std::string& label) {
+// env: the studio environment's view for a file without lights (the plan must have one).
+void expect_agreement(const std::string& path, const std::string& label,
+                      const EnvironmentView* env = nullptr) {
   SCOPED_TRACE(label);
   Result<Scene> scene = load_scene(path);
   ASSERT_TRUE(scene.ok()) << scene.status().message();
   RenderOptions opt;
   opt.width = kSize;
   opt.height = kSize;
+  if (env) opt.env_view = *env;
   Result<Plan> plan = make_plan(*scene, opt);
   ASSERT_TRUE(plan.ok()) << plan.status().message();
+  EXPECT_EQ(plan->frame.environment != nullptr, env != nullptr);
   std::unique_ptr<Backend> cpu = make_cpu_backend({.threads = 2});
   Result<RenderResult> rc = cpu->render(*scene, *plan);
   ASSERT_TRUE(rc.ok()) << rc.status().message();
-  Backend* gl = gl_backend();
+  Backend* gl = gl::testing::shared_gl_backend();
   ASSERT_NE(gl, nullptr);
   Result<RenderResult> rg = gl->render(*scene, *plan);
   ASSERT_TRUE(rg.ok()) << rg.status().message();
-  const ImageDiff d = compare_images(rc->framebuffer.color, rg->framebuffer.color, 8.0f / 255.0f);
+  const ImageDiff d =
+      compare_images(rc->framebuffer.color, rg->framebuffer.color, gl::testing::kThreshold);
   const double off = static_cast<double>(d.over_count) / (kSize * kSize);
   std::printf("[ measure  ] %s: PSNR %.2f dB, max %.1f/255, over 8/255 %.3f%%\n", label.c_str(),
               d.psnr_db, d.max_error * 255.0, 100.0 * off);
-  EXPECT_GE(d.psnr_db, 35.0);
-  EXPECT_LE(off, 0.005);
+  EXPECT_GE(d.psnr_db, gl::testing::kMinPsnr);
+  EXPECT_LE(off, gl::testing::kMaxOverFraction);
   // the scene is not black (an all-black pair would agree)
   double sum = 0.0;
   for (const glm::vec4& p : rc->framebuffer.color.pixels) sum += p.x + p.y + p.z;
@@ -174,6 +170,43 @@ TEST(GlMaterials, EachFeatureAloneAgreesWithCpu) {
     }
     expect_agreement(d.write(c.name), c.name);
   }
+}
+
+// The occlusion texture under image-based light (a file without lights: the studio environment,
+// turned and scaled): it scales the whole indirect term, split-sum specular included, before
+// the emissive term; metallic-roughness (the glTF default) and Blinn-Phong, on normal and relief.
+TEST(GlMaterials, OcclusionUnderEnvironmentAgreesWithCpu) {
+  RELIEF_REQUIRE_GL();
+  const auto dir = test::fresh_test_dir("gl_materials_env");
+  const EnvironmentView view = environment_view(-50.0f, 1.3f);
+  const glm::vec4 zero[4] = {{0, 0, 0, 1}, {0, 0, 0, 1}, {0, 0, 0, 1}, {0, 0, 0, 1}};
+  for (bool blinn_phong : {false, true})
+    for (const char* technique : {"normal", "relief"}) {
+      json ext = {{"technique", technique}};
+      if (blinn_phong) ext["shading"] = "blinn_phong";
+      if (std::string(technique) == "relief") {
+        ext["depth_texture"] = {{"index", 3}};
+        ext["depth_scale"] = 0.05;
+      }
+      json m = {{"pbrMetallicRoughness",
+                 {{"baseColorFactor", {0.8, 0.8, 0.8, 1}},
+                  {"baseColorTexture", {{"index", 0}}},
+                  {"metallicFactor", 0.5},
+                  {"roughnessFactor", 0.4}}},
+                {"occlusionTexture", {{"index", 1}, {"strength", 0.9}}},
+                {"emissiveFactor", {0.05, 0.02, 0.0}},
+                {"normalTexture", {{"index", 2}}},
+                {"extensions", {{"RELIEF_relief_mapping", ext}}}};
+      MaterialDoc d = test::material_quad(dir, m, 0.3f, 0.0f);
+      d.texture("base", kQuad);
+      d.texture("occlusion", kGreys);
+      const glm::vec4 nm(0.65f, 0.4f, 0.9f, 1.0f);
+      const glm::vec4 nmap[4] = {nm, nm, nm, nm};
+      d.texture("normal", nmap);
+      d.texture("depth", zero);
+      const std::string name = std::string(technique) + (blinn_phong ? "_blinn_phong" : "_mr");
+      expect_agreement(d.write(name), "environment, occlusion, " + name, &view);
+    }
 }
 
 }  // namespace
