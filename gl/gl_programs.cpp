@@ -77,6 +77,7 @@ std::vector<std::string> variant_defines(const Variant& v) {
       flag("EFFECT_SILHOUETTE", v.effects & kEffectSilhouette),
       flag("EFFECT_SHADOW_PASS", v.effects & kEffectShadowPass),
       flag("EFFECT_RECEIVE_SHADOW", v.effects & kEffectReceiveShadow),
+      flag("EFFECT_HEIGHT_AO", v.effects & kEffectHeightAo),
       flag("RELIEF_WRITES_DEPTH", v.depth_output != DepthOutput::kNone),
       flag("RELIEF_AOVS", v.aovs),
       flag("RELIEF_DEPTH_FARTHER", v.depth_output == DepthOutput::kFarther),
@@ -127,6 +128,13 @@ void set_gltf_material_terms(GLuint p, const MaterialUniforms& m) {
                      m.occlusion_strength);
   glProgramUniform1f(p, glGetUniformLocation(p, "material.normal_scale"), m.normal_scale);
   glProgramUniform1i(p, glGetUniformLocation(p, "material.unlit"), m.unlit ? 1 : 0);
+}
+
+// Height-field AO (relief_shell.glsl height_field_ao); only EFFECT_HEIGHT_AO twins have them.
+void set_height_ao(GLuint p, const MaterialUniforms& m) {
+  glProgramUniform1i(p, glGetUniformLocation(p, "height_ao_rays"), m.height_ao.rays);
+  glProgramUniform1f(p, glGetUniformLocation(p, "height_ao_radius"), m.height_ao.radius);
+  glProgramUniform1f(p, glGetUniformLocation(p, "height_ao_strength"), m.height_ao.strength);
 }
 
 }  // namespace
@@ -267,6 +275,7 @@ void set_material_uniforms(const Program& program, const MaterialUniforms& m) {
   }
   if (l.texture_sampler >= 0) glProgramUniform3iv(p, l.texture_sampler, kMaxTextureSlots, samplers);
   set_gltf_material_terms(p, m);
+  set_height_ao(p, m);
 }
 
 }  // namespace gl_detail

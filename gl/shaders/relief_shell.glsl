@@ -28,6 +28,37 @@ SearchHit search(FragIn in_, TextureDepth depth, vec3 V, vec2 ds);
 // its steps and fetches to o.
 float shadow(TextureDepth depth, SearchHit hit, vec2 dl, float lz, inout ShadeOut o);
 
+#ifndef EFFECT_HEIGHT_AO
+#define EFFECT_HEIGHT_AO 0
+#endif
+#if EFFECT_HEIGHT_AO
+// Height-field ambient occlusion: shaders_cpp/height_ao.h height_field_ao (kHeightAoSteps 4,
+// kHeightAoBias 1/1024, tangents clamped at 1e4) times plugins/relief_shell.h's strength, the
+// factor of the indirect term; its depth reads added to `fetches`.
+uniform int height_ao_rays;
+uniform float height_ao_radius;
+uniform float height_ao_strength;
+float height_ao_factor(TextureDepth depth, vec2 uv, float depth_scale, inout float fetches) {
+  if (height_ao_rays <= 0 || !(height_ao_radius > 0.0)) return 1.0;
+  float d0 = sample_depth(depth, uv);
+  float sum = 0.0;
+  for (int k = 0; k < height_ao_rays; ++k) {
+    float a = 6.283185307179586 * float(k) / float(height_ao_rays);
+    vec2 dir = vec2(cos(a), sin(a));
+    float h = 0.0;
+    for (int j = 1; j <= 4; ++j) {
+      float t = height_ao_radius * float(j) / 4.0;
+      float slope = min(depth_scale / t, 1e30);
+      h = max(h, (d0 - sample_depth(depth, uv + dir * t) - 1.0 / 1024.0) * slope);
+    }
+    h = min(h, 1e4);
+    sum += 1.0 - h / sqrt(1.0 + h * h);
+  }
+  fetches += float(1 + height_ao_rays * 4);
+  return 1.0 - height_ao_strength * (1.0 - sum / float(height_ao_rays));
+}
+#endif
+
 // What the C++ visibility lambda captures.
 TangentFrame shell_tf;
 TextureDepth shell_depth;
@@ -101,6 +132,12 @@ ShadeOut shade(FragIn in_) {
     base_alpha *= c.w;
     o.fetches += 1.0;
   }
+  // the indirect term's factor (C++: SurfaceColor::occlusion before finish_surface)
+  float occlusion = 1.0;
+#if EFFECT_HEIGHT_AO
+  if (has_texture[kDepthSlot])
+    occlusion = height_ao_factor(depth, hit.uv, depth_scale, o.fetches);
+#endif
   // lighting at the displaced point
   shell_tf = tf;
   shell_depth = depth;
@@ -114,7 +151,11 @@ ShadeOut shade(FragIn in_) {
   base_alpha *= in_.color.a;
   vec3 color = material.unlit ? albedo : shade_direct(pos, n, -w, albedo, mr);
   o = shell_out;
-  o.color = finish_surface(color, hit.uv, albedo, in_, o.fetches);
+  // occlusion on the ambient term only, under the occlusion texture's: finish_surface scales its
+  // albedo x ambient by the texture, so it is handed albedo x occlusion (the planner keeps height
+  // AO off for unlit materials, which return albedo)
+  color += albedo * frame.ambient * (occlusion - 1.0);
+  o.color = finish_surface(color, hit.uv, albedo * occlusion, in_, o.fetches);
   o.alpha = base_alpha;
   o.shading_normal = n;
   return o;
