@@ -65,7 +65,10 @@ struct RenderArgs {
   bool log_json = false;
   std::string spp = "1";
   std::string exposure = "0";
-  EnvironmentArgs env;         // --env, --env-intensity, --env-rotation
+  EnvironmentArgs env;  // --env, --env-intensity, --env-rotation
+  // --height-ao RAYS, --height-ao-radius, --height-ao-strength: set only when given
+  std::optional<int> height_ao;
+  std::optional<float> height_ao_radius, height_ao_strength;
   std::string tonemap;         // --tonemap
   bool tonemap_given = false;  // else the default of the scene's source
   std::string alpha = "none";  // --alpha (apps/output.h OutputAlpha)
@@ -416,6 +419,9 @@ Status parse_frame_options(const RenderArgs& a, RenderJob& job) {
   opt.shadow = a.shadow;
   RELIEF_RETURN_IF_ERROR(parse_params(a.params, opt));
   RELIEF_RETURN_IF_ERROR(apply_environment_options(a.env, opt));
+  opt.height_ao_rays = a.height_ao;
+  opt.height_ao_radius = a.height_ao_radius;
+  opt.height_ao_strength = a.height_ao_strength;
   job.names = OutputNames{a.output, {}, a.stats};
   return parse_aovs(a.aovs, opt, job.names);
 }
@@ -872,6 +878,16 @@ void register_render(CLI::App& app, Action& action) {
                   "Exposure in stops: linear colour times 2^EV before the output transform")
       ->capture_default_str();
   add_environment_options(*sub, a->env);
+  sub->add_option_function<int>(
+      "--height-ao", [a](const int& v) { a->height_ao = v; },
+      "Height-field ambient occlusion on every relief material: RAYS directions (0 off, at most "
+      "16; docs/effects.md)");
+  sub->add_option_function<float>(
+      "--height-ao-radius", [a](const float& v) { a->height_ao_radius = v; },
+      "Height-field AO search radius in uv units, [0, 1] (default the material's, 0.05)");
+  sub->add_option_function<float>(
+      "--height-ao-strength", [a](const float& v) { a->height_ao_strength = v; },
+      "Height-field AO strength, [0, 1] (default the material's, 1)");
   sub->add_option("--tonemap", a->tonemap,
                   "Tone curve for 8-bit outputs (.png): none (clamp), aces (ACES filmic, Hill's "
                   "fit) or pbr-neutral (Khronos PBR Neutral); default pbr-neutral for a glTF "

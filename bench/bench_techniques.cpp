@@ -27,6 +27,12 @@ const TechniqueCase kCases[] = {
      "relief",
      {{"steps", "10"}, {"min_steps", "10"}, {"binary_steps", "5"}},
      true},
+    // the same with height-field ambient occlusion, 8 rays x 4 steps (issue 24's cost)
+    {"Relief_10_5_HeightAo8",
+     "relief",
+     {{"steps", "10"}, {"min_steps", "10"}, {"binary_steps", "5"}},
+     false,
+     8},
     {"Relief_32_8", "relief", {{"steps", "32"}, {"min_steps", "32"}, {"binary_steps", "8"}}},
     {"Exact", "exact", {}},
     {"Cone_15", "cone", {{"steps", "15"}}},  // GPU Gems 3 ch. 18, figure 18-1 settings

@@ -21,6 +21,9 @@ struct TechniqueCase {
   // Light every material with the glTF metallic-roughness BRDF (a dielectric of roughness 0.5)
   // in place of the scene's Blinn-Phong (docs/scene-format.md, "Shading").
   bool metallic_roughness = false;
+  // Height-field ambient occlusion on every relief material with this many rays (0: off;
+  // RenderOptions::height_ao_rays, docs/effects.md).
+  int height_ao_rays = 0;
 };
 
 // Renders the built-in scene `scene_name` at 1024 x 768 on 2 threads with `c`'s technique and
@@ -42,6 +45,7 @@ inline WorkCounters time_technique(benchmark::State& state, const char* scene_na
   opt.height = 768;
   opt.technique = c.technique;
   opt.params = c.params;
+  if (c.height_ao_rays > 0) opt.height_ao_rays = c.height_ao_rays;
   Renderer renderer(make_cpu_backend({.threads = 2}));
   Result<Plan> plan = renderer.plan(*scene, opt);
   if (!scene.ok() || !plan.ok()) {

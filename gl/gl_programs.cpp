@@ -82,6 +82,7 @@ std::vector<std::string> variant_defines(const Variant& v) {
       flag("EFFECT_SILHOUETTE", v.effects & kEffectSilhouette),
       flag("EFFECT_SHADOW_PASS", v.effects & kEffectShadowPass),
       flag("EFFECT_RECEIVE_SHADOW", v.effects & kEffectReceiveShadow),
+      flag("EFFECT_HEIGHT_AO", v.effects & kEffectHeightAo),
       flag("RELIEF_WRITES_DEPTH", v.depth_output != DepthOutput::kNone),
       flag("RELIEF_AOVS", v.aovs),
       flag("RELIEF_DEPTH_FARTHER", v.depth_output == DepthOutput::kFarther),
@@ -147,6 +148,13 @@ void set_environment_uniforms(const Program& program, const FrameUniforms& f) {
   glProgramUniform1f(p, l.env_intensity, f.env_view.intensity);
   const int levels = env.specular.empty() ? 1 : env.specular.levels();
   glProgramUniform1f(p, l.env_max_lod, static_cast<float>(levels - 1));
+}
+
+// Height-field AO (relief_shell.glsl height_field_ao); only EFFECT_HEIGHT_AO twins have them.
+void set_height_ao(GLuint p, const MaterialUniforms& m) {
+  glProgramUniform1i(p, glGetUniformLocation(p, "height_ao_rays"), m.height_ao.rays);
+  glProgramUniform1f(p, glGetUniformLocation(p, "height_ao_radius"), m.height_ao.radius);
+  glProgramUniform1f(p, glGetUniformLocation(p, "height_ao_strength"), m.height_ao.strength);
 }
 
 }  // namespace
@@ -288,6 +296,7 @@ void set_material_uniforms(const Program& program, const MaterialUniforms& m) {
   }
   if (l.texture_sampler >= 0) glProgramUniform3iv(p, l.texture_sampler, kMaxTextureSlots, samplers);
   set_gltf_material_terms(p, m);
+  set_height_ao(p, m);
 }
 
 }  // namespace gl_detail

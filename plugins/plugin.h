@@ -24,7 +24,8 @@
 
 namespace relief {
 
-inline constexpr uint32_t kPluginAbiVersion = 3;  // 2: reads_texture; 3: glTF material terms
+inline constexpr uint32_t kPluginAbiVersion = 4;  // 2: reads_texture; 3: glTF material terms;
+                                                  // 4: height-field AO uniforms
 
 // ---- parameters ----
 enum class ParamType : uint8_t { kFloat, kInt, kBool, kEnum };
@@ -58,6 +59,7 @@ enum Effect : uint32_t {
   kEffectSilhouette = 1u << 2,     // discard rays that leave the surface (curved silhouettes)
   kEffectShadowPass = 1u << 3,     // running in a light's depth pass: intersection and depth only
   kEffectReceiveShadow = 1u << 4,  // look up shadow maps
+  kEffectHeightAo = 1u << 5,       // ambient occlusion from the height field (a uniform branch)
 };
 using EffectMask = uint32_t;
 

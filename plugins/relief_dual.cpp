@@ -169,7 +169,7 @@ const PluginDescriptor kReliefDualPlugin = {
     std::size(kParams),
     kDualSlots,
     std::size(kDualSlots),
-    kReliefShellEffects | kEffectSilhouette,
+    (kReliefShellEffects & ~kEffectHeightAo) | kEffectSilhouette,  // no height-field AO
     &select_dual_dispatch,
     &relief_depth_output,
     nullptr,

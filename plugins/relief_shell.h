@@ -35,6 +35,7 @@
 #endif
 
 #include "plugins/surface.h"
+#include "shaders_cpp/height_ao.h"
 #include "shaders_cpp/ray.h"
 #include "shaders_cpp/search.h"
 #include "shaders_cpp/shadow.h"
@@ -230,6 +231,23 @@ constexpr bool samples_depth_map() {
     return true;
 }
 
+// The factor height-field AO (shaders_cpp/height_ao.h) multiplies the hit's occlusion by, its
+// fetches added to `o`: through the search's depth source, or for a technique that never samples
+// it (the cone family) the depth map at the per-quad LOD, as the GLSL twin reads it.
+template <class Search, class F>
+F shell_height_ao(const MaterialUniforms& m, const FragIn<F>& in, const TextureDepth& depth,
+                  const SearchHit<F>& hit, mask_t<F> active, ShadeOut<F>& o) {
+  const float depth_scale = m.params[Search::kDepthScale];
+  HeightAoResult<F> r;
+  if constexpr (samples_depth_map<Search>())
+    r = height_field_ao(depth, hit.uv, m.height_ao.rays, m.height_ao.radius, depth_scale, active);
+  else
+    r = height_field_ao(material_depth(m, in), hit.uv, m.height_ao.rays, m.height_ao.radius,
+                        depth_scale, active);
+  o.fetches += r.fetches;
+  return height_ao_factor(r.ao, m.height_ao.strength);
+}
+
 template <class Search, EffectMask kEffects>
 struct ReliefKernel {
   static constexpr bool kShadow = (kEffects & kEffectSelfShadow) != 0;
@@ -263,6 +281,8 @@ struct ReliefKernel {
     } else {
       const V3<F> n = sample_normal_map(m, kNormalSlot, tf, hit.uv, in, F(1.0f), o.fetches);
       SurfaceColor<F> sc = sample_surface(m, kBaseColorSlot, hit.uv, in, o.fetches, &o.alpha);
+      if (m.height_ao.rays > 0 && depth.texture)  // kEffectHeightAo: uniform, no work when off
+        sc.occlusion = sc.occlusion * shell_height_ao<Search>(m, in, depth, hit, active, o);
       // lighting at the displaced point: self-shadow ray, then the light's shadow map (lit lanes)
       auto visibility = [&](int i, V3<F> l, mask_t<F> lit) -> F {
         F vis(1.0f);
@@ -290,8 +310,9 @@ struct ReliefKernel {
 };
 
 // The effects every plugin built on the shell supports.
-inline constexpr EffectMask kReliefShellEffects =
-    kEffectSelfShadow | kEffectDepthWrite | kEffectShadowPass | kEffectReceiveShadow;
+inline constexpr EffectMask kReliefShellEffects = kEffectSelfShadow | kEffectDepthWrite |
+                                                  kEffectShadowPass | kEffectReceiveShadow |
+                                                  kEffectHeightAo;
 
 // The main-pass packet shader of `Search` with the effects kR (0 or kEffectReceiveShadow) and
 // self-shadow / depth write from `e`.

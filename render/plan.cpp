@@ -34,7 +34,7 @@ std::string effect_names(EffectMask e) {
   static const std::pair<EffectMask, const char*> kNames[] = {
       {kEffectSelfShadow, "self_shadow"},       {kEffectDepthWrite, "depth_write"},
       {kEffectSilhouette, "silhouette"},        {kEffectShadowPass, "shadow_pass"},
-      {kEffectReceiveShadow, "receive_shadow"},
+      {kEffectReceiveShadow, "receive_shadow"}, {kEffectHeightAo, "height_ao"},
   };
   std::string s;
   for (const auto& [bit, name] : kNames)
@@ -205,6 +205,21 @@ std::vector<int> blend_draw_order(const Scene& scene, const glm::mat4& view) {
   return order;
 }
 
+// Whether height-field AO values are in range (rays 0..16, radius and strength in [0, 1]);
+// `what` names the values' origin in the error.
+Status check_height_ao(const HeightAoParams& h, const std::string& what) {
+  if (h.rays < 0 || h.rays > kMaxHeightAoRays)
+    return Status::error(what + ": height-field AO rays " + std::to_string(h.rays) +
+                         " outside 0.." + std::to_string(kMaxHeightAoRays));
+  if (!(h.radius >= 0.0f && h.radius <= 1.0f))
+    return Status::error(what + ": height-field AO radius " + short_number(h.radius) +
+                         " outside [0, 1] (uv units)");
+  if (!(h.strength >= 0.0f && h.strength <= 1.0f))
+    return Status::error(what + ": height-field AO strength " + short_number(h.strength) +
+                         " outside [0, 1]");
+  return {};
+}
+
 // What make_plan checks of the scene and the options before binding anything.
 Status check_request(const Scene& scene, const RenderOptions& opt) {
   if (scene.cameras.empty()) return Status::error("scene '" + scene.name + "' has no camera");
@@ -223,6 +238,11 @@ Status check_request(const Scene& scene, const RenderOptions& opt) {
     Result<const PluginDescriptor*> t = find_technique(opt.technique, ValueOrigin::option());
     if (!t.ok()) return t.status();
   }
+  HeightAoParams h;
+  h.rays = opt.height_ao_rays.value_or(0);
+  h.radius = opt.height_ao_radius.value_or(h.radius);
+  h.strength = opt.height_ao_strength.value_or(h.strength);
+  if (Status s = check_height_ao(h, "--height-ao"); !s.ok()) return Status::usage(s.message());
   return check_shadow_settings(opt.shadow);
 }
 
@@ -322,6 +342,35 @@ void bind_effects(const Scene& scene, const Material& m, const RenderOptions& op
   add_effect(b, kEffectSilhouette, m.silhouette, "silhouette");
 }
 
+// Height-field ambient occlusion (shaders_cpp/height_ao.h): the material's, with the options'
+// values over every relief material (one with a depth map); on where the plugin supports it.
+Status bind_height_ao(const Material& m, const RenderOptions& opt, BoundMaterial& b) {
+  HeightAoParams h = m.height_ao;
+  if (m.textures.count("depth") != 0) {
+    if (opt.height_ao_rays) h.rays = *opt.height_ao_rays;
+    if (opt.height_ao_radius) h.radius = *opt.height_ao_radius;
+    if (opt.height_ao_strength) h.strength = *opt.height_ao_strength;
+  }
+  RELIEF_RETURN_IF_ERROR(check_height_ao(h, "material '" + m.name + "'"));
+  if (h.rays == 0 || h.radius == 0.0f || h.strength == 0.0f || m.unlit) {
+    b.reasons.push_back(h.rays == 0 ? "height_ao: off (not asked by the material)"
+                        : m.unlit   ? "height_ao: off (unlit material)"
+                                    : "height_ao: off (radius or strength 0)");
+    return {};
+  }
+  if (!(b.plugin->supported_effects & kEffectHeightAo)) {
+    b.reasons.push_back(std::string("height_ao: off (not supported by technique ") +
+                        b.plugin->name + ")");
+    return {};
+  }
+  b.effects |= kEffectHeightAo;
+  b.uniforms.height_ao = h;
+  b.reasons.push_back("height_ao: on (" + std::to_string(h.rays) + " rays x 4 steps, radius " +
+                      short_number(h.radius) + " uv, strength " + short_number(h.strength) +
+                      "; ambient/environment light only)");
+  return {};
+}
+
 // One material bound to its plugin. `--technique` replaces the technique of the relief materials
 // (those with a depth map); the others (plain spheres through a relief floor, say) keep theirs.
 // `--param key=value` goes to every material whose technique declares the key (param_used).
@@ -346,6 +395,7 @@ Result<BoundMaterial> bind_material(const Scene& scene, const Material& m, const
   RELIEF_RETURN_IF_ERROR(bind_textures(m, b));
   bind_surface(m, b);
   bind_effects(scene, m, opt, b);
+  RELIEF_RETURN_IF_ERROR(bind_height_ao(m, opt, b));
   return b;
 }
 

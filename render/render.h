@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <map>
 #include <memory>
+#include <optional>
 #include <span>
 #include <string>
 #include <vector>
@@ -45,6 +46,11 @@ struct RenderOptions {
   std::string environment_name;
   EnvironmentView env_view;
   bool studio_environment = true;
+  // Height-field ambient occlusion over every relief material (those with a depth map): each
+  // value set replaces the material's (`--height-ao`, `--height-ao-radius`,
+  // `--height-ao-strength`).
+  std::optional<int> height_ao_rays;
+  std::optional<float> height_ao_radius, height_ao_strength;
 };
 
 // One material bound to its plugin: parameter values in schema order, textures by slot.

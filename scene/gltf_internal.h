@@ -170,6 +170,7 @@ class Reader {
   Status read_relief_textures(const json& e, const std::string& ep, bool depth_is_height,
                               Material& mat, std::vector<TextureSlot>& slots) const;
   Status read_relief_params(const json& e, const std::string& ep, Material& mat) const;
+  Status read_height_ao(const json& e, const std::string& ep, Material& mat) const;
   Status load_material_textures(const std::vector<TextureSlot>& slots, MaterialInfo& info);
 
   // ---- accessors and meshes (gltf_read_meshes.cpp) ----

@@ -225,7 +225,8 @@ Status Reader::read_relief_material(const json& e, const std::string& ep, Materi
                                      "max_anisotropy",
                                      "params",
                                      "depth_back_texture",
-                                     "normal_back_texture"}));
+                                     "normal_back_texture",
+                                     "height_ao"}));
   mat.technique = "relief";
   if (e.contains("technique")) {
     if (!e["technique"].is_string() || e["technique"].get<std::string>().empty())
@@ -255,8 +256,28 @@ Status Reader::read_relief_material(const json& e, const std::string& ep, Materi
   mat.specular = static_cast<float>(specular);
   mat.shininess = static_cast<float>(shininess);
   RELIEF_RETURN_IF_ERROR(get_int(e, "max_anisotropy", ep, max_aniso, 1, 16));
+  RELIEF_RETURN_IF_ERROR(read_height_ao(e, ep, mat));
   RELIEF_RETURN_IF_ERROR(read_relief_textures(e, ep, depth_is_height, mat, slots));
   return read_relief_params(e, ep, mat);
+}
+
+// RELIEF_relief_mapping's "height_ao": {"rays" (0..16), "radius" (uv units, [0, 1]), "strength"
+// ([0, 1])}, each optional (Material::height_ao's defaults); a value out of range is an error at
+// its pointer.
+Status Reader::read_height_ao(const json& e, const std::string& ep, Material& mat) const {
+  auto it = e.find("height_ao");
+  if (it == e.end()) return {};
+  const std::string hp = ep + "/height_ao";
+  if (!it->is_object())
+    return fail(hp, "expected an object {\"rays\", \"radius\", \"strength\"}, got " + it->dump());
+  RELIEF_RETURN_IF_ERROR(check_keys(*it, hp, {"rays", "radius", "strength"}));
+  RELIEF_RETURN_IF_ERROR(get_int(*it, "rays", hp, mat.height_ao.rays, 0, kMaxHeightAoRays));
+  double radius = mat.height_ao.radius, strength = mat.height_ao.strength;
+  RELIEF_RETURN_IF_ERROR(get_number(*it, "radius", hp, radius, 0.0, 1.0));
+  RELIEF_RETURN_IF_ERROR(get_number(*it, "strength", hp, strength, 0.0, 1.0));
+  mat.height_ao.radius = static_cast<float>(radius);
+  mat.height_ao.strength = static_cast<float>(strength);
+  return {};
 }
 
 // The relief textures of RELIEF_relief_mapping `e` as slots: depth, relief_dual's back layer,

@@ -476,6 +476,10 @@ class Writer {
         e["shading"] = "metallic_roughness";
       }
       if (m.sampler.filter == Filter::kAnisotropic) e["max_anisotropy"] = m.sampler.max_aniso;
+      if (m.height_ao.rays > 0)
+        e["height_ao"] = {{"rays", m.height_ao.rays},
+                          {"radius", shortest(m.height_ao.radius)},
+                          {"strength", shortest(m.height_ao.strength)}};
       gm["extensions"][kReliefExtension] = e;
       doc_["materials"].push_back(gm);
     }

@@ -98,6 +98,9 @@ struct Material {
   float occlusion_strength = 1.0f;
   float normal_scale = 1.0f;  // normalTexture.scale
   bool unlit = false;         // KHR_materials_unlit
+  // Ambient occlusion from the height field (RELIEF_relief_mapping "height_ao"; rays 0: off).
+  // Relief materials only (a depth map), techniques built on plugins/relief_shell.h.
+  HeightAoParams height_ao;
   // Effects the material asks for; the planner keeps those its plugin supports.
   bool self_shadow = false;
   bool depth_write = false;

@@ -99,6 +99,17 @@ struct UvMap {
   bool identity = true;  // the identity on set 0: the varying uv as is
 };
 
+// Ambient occlusion from the height field (shaders_cpp/height_ao.h; the techniques built on
+// plugins/relief_shell.h): `rays` azimuth directions (0: off, no work; at most 16) of radius
+// `radius` uv units (the relief's depth_scale is in the same units), SurfaceColor::occlusion
+// multiplied by 1 - strength * (1 - AO). docs/effects.md, "Height-field ambient occlusion".
+struct HeightAoParams {
+  int rays = 0;
+  float radius = 0.05f;
+  float strength = 1.0f;
+};
+inline constexpr int kMaxHeightAoRays = 16;
+
 // Per draw: the material's parameter values (schema order), textures by slot and base colour.
 struct MaterialUniforms {
   float params[kMaxParams] = {};
@@ -130,6 +141,7 @@ struct MaterialUniforms {
   float occlusion_strength = 1.0f;
   float normal_scale = 1.0f;  // normalTexture.scale: the decoded map's x and y
   bool unlit = false;         // KHR_materials_unlit: base colour only, no lights or shadows
+  HeightAoParams height_ao;   // rays 0: off (no work)
 };
 
 }  // namespace relief

@@ -28,6 +28,37 @@ SearchHit search(FragIn in_, TextureDepth depth, vec3 V, vec2 ds);
 // its steps and fetches to o.
 float shadow(TextureDepth depth, SearchHit hit, vec2 dl, float lz, inout ShadeOut o);
 
+#ifndef EFFECT_HEIGHT_AO
+#define EFFECT_HEIGHT_AO 0
+#endif
+#if EFFECT_HEIGHT_AO
+// Height-field ambient occlusion: shaders_cpp/height_ao.h height_field_ao (kHeightAoSteps 4,
+// kHeightAoBias 1/1024, tangents clamped at 1e4) times plugins/relief_shell.h's strength, the
+// factor of the indirect term; its depth reads added to `fetches`.
+uniform int height_ao_rays;
+uniform float height_ao_radius;
+uniform float height_ao_strength;
+float height_ao_factor(TextureDepth depth, vec2 uv, float depth_scale, inout float fetches) {
+  if (height_ao_rays <= 0 || !(height_ao_radius > 0.0)) return 1.0;
+  float d0 = sample_depth(depth, uv);
+  float sum = 0.0;
+  for (int k = 0; k < height_ao_rays; ++k) {
+    float a = 6.283185307179586 * float(k) / float(height_ao_rays);
+    vec2 dir = vec2(cos(a), sin(a));
+    float h = 0.0;
+    for (int j = 1; j <= 4; ++j) {
+      float t = height_ao_radius * float(j) / 4.0;
+      float slope = min(depth_scale / t, 1e30);
+      h = max(h, (d0 - sample_depth(depth, uv + dir * t) - 1.0 / 1024.0) * slope);
+    }
+    h = min(h, 1e4);
+    sum += 1.0 - h / sqrt(1.0 + h * h);
+  }
+  fetches += float(1 + height_ao_rays * 4);
+  return 1.0 - height_ao_strength * (1.0 - sum / float(height_ao_rays));
+}
+#endif
+
 // What the C++ visibility lambda captures.
 TangentFrame shell_tf;
 TextureDepth shell_depth;
@@ -101,6 +132,12 @@ ShadeOut shade(FragIn in_) {
     base_alpha *= c.w;
     o.fetches += 1.0;
   }
+  // the indirect term's factor (C++: SurfaceColor::occlusion before finish_surface)
+  float height_occlusion = 1.0;
+#if EFFECT_HEIGHT_AO
+  if (has_texture[kDepthSlot])
+    height_occlusion = height_ao_factor(depth, hit.uv, depth_scale, o.fetches);
+#endif
   // lighting at the displaced point
   shell_tf = tf;
   shell_depth = depth;
@@ -108,7 +145,7 @@ ShadeOut shade(FragIn in_) {
   shell_depth_scale = depth_scale;
   vec2 mr = sample_metallic_roughness(hit.uv, in_, o.fetches);  // plugins/surface.h sample_surface
   // plugins/surface.h finish_surface: the occlusion texture, before lighting
-  float occlusion = surface_occlusion(hit.uv, in_, o.fetches);
+  float occlusion = height_occlusion * surface_occlusion(hit.uv, in_, o.fetches);
   shell_out = o;
   shell_pos = pos;
   shell_n = n;

@@ -23,6 +23,7 @@ std::vector<std::string> variant_defines(EffectMask e, bool writes_depth, bool a
           flag("EFFECT_SILHOUETTE", e & kEffectSilhouette),
           flag("EFFECT_SHADOW_PASS", e & kEffectShadowPass),
           flag("EFFECT_RECEIVE_SHADOW", e & kEffectReceiveShadow),
+          flag("EFFECT_HEIGHT_AO", e & kEffectHeightAo),
           flag("RELIEF_WRITES_DEPTH", writes_depth),
           flag("RELIEF_AOVS", aovs)};
 }
