@@ -8,7 +8,9 @@
 #include <map>
 #include <string>
 
+#include "bake/environment_bake.h"
 #include "builtin/builtin.h"
+#include "render/derived_maps.h"
 #include "render/render.h"
 #include "render/renderer.h"
 
@@ -24,10 +26,14 @@ struct TechniqueCase {
   // Height-field ambient occlusion on every relief material with this many rays (0: off;
   // RenderOptions::height_ao_rays, docs/effects.md).
   int height_ao_rays = 0;
+  // Image-based light from the built-in studio environment (baked once, untimed) beside the
+  // scene's lights (docs/environment.md).
+  bool environment = false;
+  int width = 1024, height = 768;
 };
 
-// Renders the built-in scene `scene_name` at 1024 x 768 on 2 threads with `c`'s technique and
-// parameters: one untimed warm-up frame (derived state, caches), then one timed frame per
+// Renders the built-in scene `scene_name` at c.width x c.height on 2 threads with `c`'s technique
+// and parameters: one untimed warm-up frame (derived state, caches), then one timed frame per
 // iteration, each handed back to the backend (no framebuffer allocation per frame). Sets the
 // counters ns_per_fragment and steps_per_fragment and the items processed (fragments); returns
 // the summed work, or sets the error on `state` and returns no fragments.
@@ -41,8 +47,16 @@ inline WorkCounters time_technique(benchmark::State& state, const char* scene_na
       m.roughness = 0.5f;
     }
   RenderOptions opt;
-  opt.width = 1024;
-  opt.height = 768;
+  opt.width = c.width;
+  opt.height = c.height;
+  if (c.environment) {
+    Result<DerivedEnvironment> env = derived_environment(studio_environment(512, 256));
+    if (!env.ok()) {
+      state.SkipWithError(env.status().message().c_str());
+      return {};
+    }
+    opt.environment = env->maps;
+  }
   opt.technique = c.technique;
   opt.params = c.params;
   if (c.height_ao_rays > 0) opt.height_ao_rays = c.height_ao_rays;

@@ -152,7 +152,9 @@ class Runner {
     dark.lights.clear();
     Result<RenderResult> r_off = render(cpu_, off, render_options(s, false));
     if (!r_off.ok()) return r_off.status();
-    Result<RenderResult> r_dark = render(cpu_, dark, render_options(s, false));
+    RenderOptions dark_options = render_options(s, false);
+    dark_options.studio_environment = false;  // the ambient term alone, as lit frames have it
+    Result<RenderResult> r_dark = render(cpu_, dark, dark_options);
     if (!r_dark.ok()) return r_dark.status();
     const size_t n = m.on.color.pixels.size();
     m.visible.assign(n, -1);

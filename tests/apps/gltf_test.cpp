@@ -154,6 +154,9 @@ Framebuffer render(const Scene& s, int w, int h, int camera = 0) {
   opt.width = w;
   opt.height = h;
   opt.camera = camera;
+  // the files without lights here are lit by their ambient colour (1: the texels as they are),
+  // not by the studio environment a scene without lights gets by default
+  opt.studio_environment = false;
   Result<Plan> plan = make_plan(s, opt);
   EXPECT_TRUE(plan.ok()) << plan.status().message();
   if (!plan.ok()) return {};

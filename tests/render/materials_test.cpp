@@ -38,6 +38,9 @@ Frame render_file(const std::string& path, const std::string& technique = "", Ao
   opt.height = kSize;
   opt.technique = technique;
   opt.aovs = aovs;
+  // the quads without a light are lit by their ambient colour alone (these tests are about the
+  // material terms), not by the studio environment a scene without lights gets by default
+  opt.studio_environment = false;
   Result<Plan> plan = make_plan(f.scene, opt);
   EXPECT_TRUE(plan.ok()) << plan.status().message();
   if (!plan.ok()) return f;

@@ -42,10 +42,11 @@ Scene builtin(const std::string& name) {
 // hit-uv and hit-depth AOVs; nullopt (and a test failure) when the plan or the render fails.
 std::optional<Framebuffer> render(const Scene& scene, const std::string& technique,
                                   const Params& params = {}, int width = 320, int height = 180,
-                                  bool scalar = false) {
+                                  bool scalar = false, bool studio_environment = true) {
   RenderOptions opt = test::cpu_options(width, height, technique);
   opt.params = params;
   opt.scalar_lanes = scalar;
+  opt.studio_environment = studio_environment;
   opt.aovs = aov_bit(Aov::kHitUv) | aov_bit(Aov::kHitDepth);
   return test::render_frame(scene, opt);
 }
@@ -359,7 +360,8 @@ ShadowAgreement shadow_agreement(const Scene& lit, const std::string& technique,
   ShadowAgreement a;
   const std::optional<Framebuffer> on = render(lit, technique, params);
   const std::optional<Framebuffer> off = render(unshadowed, technique, params);
-  const std::optional<Framebuffer> dark = render(unlit, technique, params);
+  // without lights: the ambient term alone (not the studio environment of a scene without lights)
+  const std::optional<Framebuffer> dark = render(unlit, technique, params, 320, 180, false, false);
   EXPECT_TRUE(on && off && dark);
   if (!on || !off || !dark) return a;
   for (size_t i = 0; i < on->color.pixels.size(); ++i) {
