@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <string>
 #include <vector>
 
@@ -313,7 +314,33 @@ Result<EnvironmentMaps> bake_environment(const Image& equirect,
   maps.sh = sh_of(src[0], pool);
   maps.specular = specular_chain(src, options, pool, &maps.clipped_values);
   maps.brdf_lut = split_sum_table(options.lut_size, options.lut_samples, pool);
+  split_channels(maps);
   return maps;
+}
+
+namespace {
+// Channel c of every level of t as an R32F texture (the texel values exactly).
+Texture channel_plane(const Texture& t, int c) {
+  std::vector<MipLevel> levels;
+  for (int k = 0; k < t.levels(); ++k) {
+    const MipLevel& src = t.level(k);
+    MipLevel l{src.width, src.height, std::vector<uint8_t>(size_t(src.width) * src.height * 4)};
+    for (int y = 0; y < src.height; ++y)
+      for (int x = 0; x < src.width; ++x) {
+        const float v = t.fetch(k, x, y)[c];
+        std::memcpy(l.data.data() + (size_t(y) * src.width + x) * 4, &v, 4);
+      }
+    levels.push_back(std::move(l));
+  }
+  return Texture::from_levels(TexFormat::kR32F, std::move(levels));
+}
+}  // namespace
+
+void split_channels(EnvironmentMaps& maps) {
+  if (!maps.specular.empty())
+    for (int c = 0; c < 3; ++c) maps.specular_planes[c] = channel_plane(maps.specular, c);
+  if (!maps.brdf_lut.empty())
+    for (int c = 0; c < 2; ++c) maps.brdf_planes[c] = channel_plane(maps.brdf_lut, c);
 }
 
 namespace {

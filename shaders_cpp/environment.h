@@ -1,10 +1,10 @@
 // Image-based light lookups over lanes (shaders_cpp/environment_maps.h holds the data and its
 // conventions): irradiance from spherical harmonics, prefiltered specular radiance from the
 // octahedral chain and the split-sum BRDF table. Every operation is a lane operation of lanes.h
-// or a per-lane call of rasterizer/texture.h's sample_lod (the maps are RGBA16F, which the
-// lane-parallel sampler does not serve), so float and the lane types agree bit for bit, and the
-// texture reads are GL's textureLod on the same levels (texture.h). Per-target header (lanes.h
-// says how).
+// or a lane-parallel textureLod of the maps' R32F channel planes (the RGBA16F maps' texels, which
+// that sampler does not serve, split by channel: environment_maps.h), so float and the lane types
+// agree bit for bit, and the texture reads are GL's textureLod on the same levels (texture.h).
+// Per-target header (lanes.h says how).
 #if defined(RELIEF_SHADERS_CPP_ENVIRONMENT_H_) == defined(HWY_TARGET_TOGGLE)
 #ifdef RELIEF_SHADERS_CPP_ENVIRONMENT_H_
 #undef RELIEF_SHADERS_CPP_ENVIRONMENT_H_
@@ -17,6 +17,7 @@
 
 #include "rasterizer/texture.h"
 #include "shaders_cpp/environment_maps.h"
+#include "shaders_cpp/sampling_simd.h"
 #include "shaders_cpp/vec.h"
 
 #include <hwy/highway.h>
@@ -87,16 +88,24 @@ inline V3<F> env_irradiance(const EnvironmentMaps& maps, const EnvironmentView& 
 }
 
 namespace env_detail {
-// sample_lod lane by lane (what texture_lod does for RGBA16F, without instantiating the
-// lane-parallel formats): rgb.
-template <class F>
-inline V3<F> read_lod(const Texture& t, const SamplerState& s, V2<F> uv, F lod) {
-  V3<F> c;
+// textureLod of the RGBA16F map `t` (rgb) through its R32F channel planes on the lane-parallel
+// sampler (environment_maps.h: the same bits); lane by lane through sample_lod when the planes
+// are absent (maps built without split_channels).
+template <class F, size_t N>
+inline V3<F> read_lod(const Texture& t, const std::array<Texture, N>& planes, const SamplerState& s,
+                      V2<F> uv, F lod) {
+  V3<F> c(F(0.0f), F(0.0f), F(0.0f));
+  if (!planes[0].empty()) {
+    c.x = texture_r_lod_call(planes[0], s, uv, lod);
+    c.y = texture_r_lod_call(planes[1], s, uv, lod);
+    if constexpr (N > 2) c.z = texture_r_lod_call(planes[2], s, uv, lod);
+    return c;
+  }
   for (int i = 0; i < lane_width<F>; ++i) {
     const glm::vec4 v = sample_lod(t, s, glm::vec2(lane(uv.x, i), lane(uv.y, i)), lane(lod, i));
     set_lane(c.x, i, v.x);
     set_lane(c.y, i, v.y);
-    set_lane(c.z, i, v.z);
+    set_lane(c.z, i, N > 2 ? v.z : 0.0f);
   }
   return c;
 }
@@ -113,7 +122,7 @@ inline V3<F> env_specular(const EnvironmentMaps& maps, const EnvironmentView& vi
   const F rough = vmin(vmax(select(roughness == roughness, roughness, F(0.0f)), F(0.0f)), F(1.0f));
   const F lod = rough * F(static_cast<float>(maps.specular.levels() - 1));
   const SamplerState s{Filter::kTrilinear, Wrap::kClamp, Wrap::kClamp, 1};
-  return env_detail::read_lod(maps.specular, s, uv, lod) * F(view.intensity);
+  return env_detail::read_lod(maps.specular, maps.specular_planes, s, uv, lod) * F(view.intensity);
 }
 
 // The split-sum BRDF terms (A, B) at NdotV and perceptual roughness (both clamped to [0, 1] by
@@ -122,7 +131,8 @@ template <class F>
 inline V2<F> env_brdf(const EnvironmentMaps& maps, F ndotv, F roughness) {
   if (maps.brdf_lut.empty()) return V2<F>(F(0.0f), F(0.0f));
   const SamplerState s{Filter::kBilinear, Wrap::kClamp, Wrap::kClamp, 1};
-  const V3<F> ab = env_detail::read_lod(maps.brdf_lut, s, V2<F>(ndotv, roughness), F(0.0f));
+  const V3<F> ab =
+      env_detail::read_lod(maps.brdf_lut, maps.brdf_planes, s, V2<F>(ndotv, roughness), F(0.0f));
   return V2<F>(ab.x, ab.y);
 }
 

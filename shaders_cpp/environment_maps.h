@@ -43,11 +43,20 @@ struct EnvironmentMaps {
   std::array<glm::vec3, kEnvShCount> sh{};
   Texture specular;  // RGBA16F octahedral, levels of roughness k / (levels - 1)
   Texture brdf_lut;  // RGBA16F, (A, B, 0, 1)
+  // The same texels, one R32F texture a channel (specular r, g, b; LUT A, B), for the CPU
+  // kernels: R32F is on the lane-parallel sampler (shaders_cpp/sampling.h) and RGBA16F is not.
+  // The halves convert to float exactly and filtering is per channel, so a read of the planes
+  // gives the bits of a read of the RGBA16F texture. Made by split_channels.
+  std::array<Texture, 3> specular_planes;
+  std::array<Texture, 2> brdf_planes;
   // What the bake changed: input texels that were NaN, infinite or negative (set to 0), and
   // specular values above the largest half float (65504, stored as 65504).
   long long replaced_texels = 0;
   long long clipped_values = 0;
 };
+
+// Fills specular_planes and brdf_planes from specular and brdf_lut (bake_environment calls it).
+void split_channels(EnvironmentMaps& maps);
 
 // Where a shader looks the environment up and how bright it is: the environment turned by
 // `degrees` about +Y (right-handed: +X toward -Z for positive angles) and scaled by intensity.

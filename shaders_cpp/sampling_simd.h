@@ -65,6 +65,16 @@ inline FN texture_r_lod_planned(const Texture& t, const SamplerState& s, const f
   return plan.read(plan, uv);
 }
 
+// texture_r_lod for kernels over either lane type: native lanes through the out-of-line entry.
+template <class F>
+inline F texture_r_lod_call(const Texture& t, const SamplerState& s, const V2<F>& uv,
+                            const F& lod) {
+  if constexpr (std::is_same_v<F, FN>)
+    return texture_r_lod_lanes(t, s, uv, lod);
+  else
+    return texture_r_lod(t, s, uv, lod);
+}
+
 // texture_grad over the native lanes.
 V4<FN> texture_grad_lanes(const Texture& t, const SamplerState& s, const V2<FN>& uv,
                           const V2<FN>& dx, const V2<FN>& dy);
