@@ -63,7 +63,8 @@ fi
 # build; the installed binary then runs with the source tree hidden (a tmpfs over it in a private
 # mount namespace) where unshare allows, so it must find everything (plugins, GL shaders) in itself.
 gl=0
-"$build/bin/relief" info 2> /dev/null | grep -q '^gl: available' && gl=1
+info="$("$build/bin/relief" info 2> /dev/null || true)"  # read whole: see slurm-test.sh
+grep -q '^gl: available' <<< "$info" && gl=1
 "$build/bin/relief" render pattern --size 320x240 -o "$work/ref_cpu.png" > /dev/null
 [ "$gl" = 1 ] && "$build/bin/relief" render pattern --size 320x240 --backend gl \
   -o "$work/ref_gl.png" > /dev/null

@@ -33,7 +33,10 @@ for tool in munged mungekey slurmctld slurmd sbatch squeue scancel scontrol sinf
   command -v "$tool" > /dev/null ||
     skip "$tool not installed (Debian: slurmctld slurmd slurm-client munge; scripts/install-deps.sh)"
 done
-"$relief" render --help | grep -q -- '--skip-existing' ||
+# (the help read whole first: `| grep -q` exits at the first match, and under pipefail the
+# SIGPIPE of the help's later writes would fail the pipe)
+render_help="$("$relief" render --help)"
+[[ "$render_help" == *--skip-existing* ]] ||
   fail "$relief render has no --skip-existing (the job script's resume needs it)"
 
 work="$(mktemp -d /tmp/relief-slurm.XXXXXX)"
