@@ -156,19 +156,24 @@ TEST(EnvironmentLight, WhiteFurnaceNeverExceedsOne) {
   }
 }
 
+// Every covered pixel of `got` is exactly k times `base` (k a power of two: exact in float).
+void expect_scaled(const Image& got, const Image& base, float k) {
+  int covered = 0;
+  for (size_t p = 0; p < base.pixels.size(); ++p) {
+    if (base.pixels[p][3] < 1.0f) continue;
+    ++covered;
+    for (int c = 0; c < 3; ++c) ASSERT_EQ(got.pixels[p][c], k * base.pixels[p][c]) << p;
+  }
+  EXPECT_GT(covered, 3000);
+}
+
 // --env-intensity scales the whole indirect term: 2x is exact in float.
 TEST(EnvironmentLight, IntensityScalesExactly) {
   const Scene s = furnace();
   const Image env = constant_environment(0.3f, 1.5f);
   const Image one = render(s, with_environment(env, 30.0f, 1.0f)).color;
   const Image two = render(s, with_environment(env, 30.0f, 2.0f)).color;
-  int covered = 0;
-  for (size_t p = 0; p < one.pixels.size(); ++p) {
-    if (one.pixels[p][3] < 1.0f) continue;
-    ++covered;
-    for (int c = 0; c < 3; ++c) ASSERT_EQ(two.pixels[p][c], 2.0f * one.pixels[p][c]) << p;
-  }
-  EXPECT_GT(covered, 3000);
+  expect_scaled(two, one, 2.0f);
 }
 
 // The environment is bright on its +X half. Unturned, a rough dielectric sphere is brighter on
@@ -202,13 +207,7 @@ TEST(EnvironmentLight, OcclusionTextureScalesTheIndirectLight) {
   t->generate_mips();
   for (Material& m : s.materials) m.occlusion_texture = t, m.occlusion_strength = 1.0f;
   const Image occluded = render(s, with_environment(env)).color;
-  int covered = 0;
-  for (size_t p = 0; p < full.pixels.size(); ++p) {
-    if (full.pixels[p][3] < 1.0f) continue;
-    ++covered;
-    for (int c = 0; c < 3; ++c) ASSERT_EQ(occluded.pixels[p][c], 0.5f * full.pixels[p][c]) << p;
-  }
-  EXPECT_GT(covered, 3000);
+  expect_scaled(occluded, full, 0.5f);
 }
 
 // A scene without lights is lit by the studio environment (its plan says so); with
