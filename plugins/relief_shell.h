@@ -23,6 +23,9 @@
 //   // texture-space step dl; adds its steps and fetches to `o`
 //   template <class F> static F shadow(const ShadeContext&, const TextureDepth& depth,
 //       const SearchHit<F>& hit, const V2<F>& dl, const F& lz, mask_t<F> lit, ShadeOut<F>& o);
+//   // optional: the factor of the indirect light at the hit while self-shadow is on (a shadow
+//   // that darkens with depth instead of tracing rays also darkens the ambient light)
+//   template <class F> static F self_occlusion(const ShadeContext&, const SearchHit<F>& hit);
 // (MarchedShadow<index> supplies `shadow` for the plain marched ray) and the plugin's descriptor
 // takes `&select_relief_variant<Policy>` and `&relief_depth_output`.
 // Texture slots 0, 1, 2 are base_color, normal and depth in every plugin built on the shell.
@@ -283,6 +286,8 @@ struct ReliefKernel {
       SurfaceColor<F> sc = sample_surface(m, kBaseColorSlot, hit.uv, in, o.fetches, &o.alpha);
       if (m.height_ao.rays > 0 && depth.texture)  // kEffectHeightAo: uniform, no work when off
         sc.occlusion = sc.occlusion * shell_height_ao<Search>(m, in, depth, hit, active, o);
+      if constexpr (kShadow && requires { Search::self_occlusion(ctx, hit); })
+        sc.occlusion = sc.occlusion * Search::self_occlusion(ctx, hit);
       // lighting at the displaced point: self-shadow ray, then the light's shadow map (lit lanes)
       auto visibility = [&](int i, V3<F> l, mask_t<F> lit) -> F {
         F vis(1.0f);

@@ -74,6 +74,16 @@ inline ShadowResult<F> self_shadow(const Depth& depth, V2<F> uv, F t, V2<F> dl, 
   return {vis, steps, fetches};
 }
 
+// Self-shadowing approximated as darkening that grows with depth (Lengyel, Praun, Finkelstein and
+// Hoppe, "Real-time fur over arbitrary surfaces", I3D 2001; the trick the steep parallax poster's
+// "Fur and Grass" borrows instead of shadow rays): 1 at the tips (depth 0), 1 - strength at the
+// deepest point (depth 1). No depth reads. Steep parallax's `shadow=depth` and `shells` both use
+// it, for each light's visibility and for the indirect light.
+template <class F>
+inline F depth_darkening(const F& depth, float strength) {
+  return F(1.0f) - F(strength) * saturate(depth);
+}
+
 }  // namespace HWY_NAMESPACE
 }  // namespace relief
 HWY_AFTER_NAMESPACE();

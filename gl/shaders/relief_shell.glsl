@@ -27,6 +27,11 @@ SearchHit search(FragIn in_, TextureDepth depth, vec3 V, vec2 ds);
 // Visibility in [0, 1] of the hit towards a light (tangent-space z = lz, texture step dl); adds
 // its steps and fetches to o.
 float shadow(TextureDepth depth, SearchHit hit, vec2 dl, float lz, inout ShadeOut o);
+#ifdef RELIEF_SELF_OCCLUSION
+// Optional (a twin that defines RELIEF_SELF_OCCLUSION): the indirect light's factor at the hit
+// while self-shadow is on.
+float self_occlusion(SearchHit hit);
+#endif
 
 #ifndef EFFECT_HEIGHT_AO
 #define EFFECT_HEIGHT_AO 0
@@ -146,6 +151,9 @@ ShadeOut shade(FragIn in_) {
   vec2 mr = sample_metallic_roughness(hit.uv, in_, o.fetches);  // plugins/surface.h sample_surface
   // plugins/surface.h finish_surface: the occlusion texture, before lighting
   float occlusion = height_occlusion * surface_occlusion(hit.uv, in_, o.fetches);
+#if EFFECT_SELF_SHADOW && defined(RELIEF_SELF_OCCLUSION)
+  occlusion *= self_occlusion(hit);
+#endif
   shell_out = o;
   shell_pos = pos;
   shell_n = n;

@@ -36,3 +36,8 @@ ShadowResult self_shadow(TextureDepth depth, vec2 uv, float t, vec2 dl, float lz
   }
   return ShadowResult(vis, steps, fetches);
 }
+
+// Twin of shaders_cpp/shadow.h depth_darkening: 1 at depth 0, 1 - strength at depth 1.
+float depth_darkening(float depth, float strength) {
+  return 1.0 - strength * clamp(depth, 0.0, 1.0);
+}
