@@ -239,12 +239,15 @@ std::vector<Setting> settings_for(const PluginDescriptor& plugin, const std::vec
                                   int binary_steps, const std::vector<std::string>& search_lods) {
   std::vector<Setting> out;
   const int binary = param_index(plugin, "binary_steps");
-  const bool has_steps = param_index(plugin, "steps") >= 0;
-  if (!has_steps) {
+  // The swept count: search steps, or the layers of a technique drawn as shells (`shells`).
+  const char* count = param_index(plugin, "steps") >= 0    ? "steps"
+                      : param_index(plugin, "layers") >= 0 ? "layers"
+                                                           : nullptr;
+  if (!count) {
     out.push_back({plugin.name, {}, plugin.name, 0});
   } else {
     for (int n : steps) {
-      Setting s{plugin.name, {{"steps", std::to_string(n)}}, "", n};
+      Setting s{plugin.name, {{count, std::to_string(n)}}, "", n};
       if (param_index(plugin, "min_steps") >= 0) s.params["min_steps"] = std::to_string(n);
       s.label = std::string(plugin.name) + " " + std::to_string(n);
       if (binary >= 0 && binary_steps >= 0) {

@@ -132,20 +132,26 @@ class Runner {
   Result<Measured> measure(const Scene& scene, const Setting& s) {
     Measured m;
     const RenderOptions ro = render_options(s, true);
+    std::vector<double> ms;
     for (int i = 0; i < opt_.warmup + opt_.repeats; ++i) {
       Result<RenderResult> r = render(cpu_, scene, ro);
       if (!r.ok()) return r.status();
       const PassStats* p = main_pass(*r);
       if (!p || p->raster.work.fragments == 0)
         return Status::error("no fragment covered (" + s.label + ")");
-      m.fragments = static_cast<long>(p->raster.work.fragments);
-      if (i >= opt_.warmup) m.ns.push_back(p->ms * 1e6 / static_cast<double>(m.fragments));
+      if (i >= opt_.warmup) ms.push_back(p->ms);
       cpu_device_ = r->device;
       if (i + 1 == opt_.warmup + opt_.repeats)
         m.on = std::move(r->framebuffer);
       else
         cpu_.recycle(std::move(r).value());  // the next repeat reuses its buffers
     }
+    // Per covered pixel: a one-layer technique shades each once; shells shade every layer that
+    // covers it, and that work is the pixel's cost.
+    m.fragments = static_cast<long>(std::count_if(
+        m.on.depth.values.begin(), m.on.depth.values.end(), [](float d) { return d > 0.0f; }));
+    if (m.fragments == 0) return Status::error("no pixel covered (" + s.label + ")");
+    for (double t : ms) m.ns.push_back(t * 1e6 / static_cast<double>(m.fragments));
     // self-shadow off, and no lights: the sun's share of each pixel and whether it is shadowed
     Scene off = scene, dark = scene;
     off.materials[0].self_shadow = false;

@@ -13,9 +13,10 @@
 // the field's sun; no shadow maps.
 //
 // Per row, on the CPU backend:
-//   cost      main-pass wall time / covered fragments, median, min and max of `repeats` frames
-//             after `warmup` frames (ns per fragment); on `gl` the same of the GLSL twin's pass
-//             (wall time up to glFinish), and cpu / gl of the medians.
+//   cost      main-pass wall time / covered pixels (for a layered technique, `shells`, all its
+//             layers' work at a pixel is that pixel's cost), median, min and max of `repeats`
+//             frames after `warmup` frames (ns per fragment); on `gl` the same of the GLSL twin's
+//             pass (wall time up to glFinish), and cpu / gl of the medians.
 //   work      texture fetches and search steps per fragment, mean and p99, counted per fragment
 //             by a counting pass (each covered fragment shaded alone, its WorkCounters kept).
 //   accuracy  against `exact` at the same pixels (hit-uv and hit-depth AOVs): hit error
@@ -103,7 +104,8 @@ struct Setting {
 
 // Registered techniques that search a depth map (a required `depth` slot), sorted by name.
 std::vector<std::string> sweep_techniques();
-// The settings of one technique: one per entry of `steps` when its schema has `steps` (and
+// The settings of one technique: one per entry of `steps` when its schema has `steps` or, for a
+// technique drawn as shells, `layers` (and
 // `min_steps` = steps, a fixed count; `binary_steps` keeps its default, or is `binary_steps`
 // when that is >= 0), else its defaults; for a technique with a `lod` parameter (the searches'
 // SearchLod, plugins/relief_shell.h) those again for each of `search_lods` (quad, zero,
