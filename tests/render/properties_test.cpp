@@ -6,6 +6,7 @@
 // quadrics flat, convex, concave, saddle, huge and tiny, seen from the front and the back; the
 // nearest fragment on the near plane, or the farthest on a finite far plane (so displaced hits
 // lie beyond it).
+//   (steep parallax alternates its self-shadow between the ray and shadow=depth at full strength)
 //   - colour, depth and every AOV are finite; hit depth in [0, 1]; a written depth lies in
 //     [0, the fragment's depth] (reversed-Z: never nearer than the surface, 0 beyond the far
 //     plane);
@@ -215,6 +216,9 @@ struct PacketCase {
                                                    : s.max_value;
       if (std::strcmp(s.name, "lod") == 0)  // the searches' LOD modes, one per case in turn
         material.params[i] = static_cast<float>(c.seed % 3);
+      if (std::strcmp(s.name, "shadow") == 0)  // steep parallax: the ray, then shadow=depth
+        material.params[i] = static_cast<float>(c.seed % 2);
+      if (std::strcmp(s.name, "shadow_strength") == 0) material.params[i] = s.max_value;
     }
     const Texture& depth = depth_map(c.tex);
     for (int s = 0; s < p.num_textures; ++s) {
