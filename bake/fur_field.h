@@ -51,13 +51,13 @@ const char* fur_kind_name(FurKind kind);
 struct FurFieldOptions {
   FurKind kind = FurKind::kFur;
   int size = 512;
-  float density = 500.0f;  // strands per 100 x 100 texels
+  float density = 800.0f;  // strands per 100 x 100 texels
   float radius = 1.5f;     // texels
   float jitter = 0.3f;     // tip heights in [1 - jitter, 1] of full height
   uint64_t seed = 1;
 };
 
-// The defaults of a kind: fur 500 strands per 10^4 texels of radius 1.5; grass 90 blades of
+// The defaults of a kind: fur 800 strands per 10^4 texels of radius 1.5; grass 90 blades of
 // radius 2. Both size 512, jitter 0.3 (fur) and 0.4 (grass), seed 1.
 FurFieldOptions fur_field_defaults(FurKind kind);
 

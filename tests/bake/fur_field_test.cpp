@@ -42,7 +42,7 @@ double coverage(const FurField& f) {
 // wraps only the centres, leaves that texel at the ground's depth 1.
 TEST(FurField, StrandsCrossingTheBorderShowOnBothSides) {
   for (FurKind kind : {FurKind::kFur, FurKind::kGrass}) {
-    const FurField f = field(kind, 96);
+    const FurField f = field(kind, 256);
     const float r = fur_field_defaults(kind).radius;
     const int n = f.size;
     int crossing = 0;
@@ -97,11 +97,11 @@ TEST(FurField, SameSeedIsBitIdenticalAnotherDiffers) {
 // of the draw order or of the strand profile shows here.
 TEST(FurField, KnownHashForSeedOne) {
   const FurField f = field(FurKind::kFur, 64);
-  EXPECT_EQ(f.strands.size(), 205u);  // lround(500 * 64 * 64 / 10^4)
+  EXPECT_EQ(f.strands.size(), 328u);  // lround(800 * 64 * 64 / 10^4)
   uint64_t h = 1469598103934665603ull;
   const auto* b = reinterpret_cast<const unsigned char*>(f.depth.data());
   for (size_t i = 0; i < f.depth.size() * sizeof(float); ++i) h = (h ^ b[i]) * 1099511628211ull;
-  EXPECT_EQ(h, 0x5d8df2154aa6ae28ull) << std::hex << h;
+  EXPECT_EQ(h, 0x184da2d93620afbbull) << std::hex << h;
 }
 
 TEST(FurField, ValuesAreFiniteAndInRange) {
