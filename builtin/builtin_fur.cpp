@@ -51,7 +51,7 @@ Material fur_material() {
 Material grass_material() {
   FurFieldOptions o = fur_field_defaults(FurKind::kGrass);
   o.size = kFieldSize;
-  return field_material("grass", o, 0.08f);
+  return field_material("grass", o, 0.1f);
 }
 
 // One field-covered mesh under one sun, seen by one camera.
@@ -81,12 +81,12 @@ Result<Scene> make_fur_scene() {
 }
 
 Result<Scene> make_grass_scene() {
-  // A 16 x 16 ground facing +y, 32 tiles a side: a tile 0.5 units.
+  // A 16 x 16 ground facing +y, 24 tiles a side: a tile 0.67 units, grass 0.067 tall.
   const float half = 8.0f;
   Mesh ground;
   ground.name = "ground";
   add_rect(ground, {-half, 0.0f, half}, {2.0f * half, 0.0f, 0.0f}, {0.0f, 0.0f, -2.0f * half},
-           {32.0f, 32.0f});
+           {24.0f, 24.0f});
   prepare_mesh(ground);
   // About 15 degrees above the plane: eye 0.8 up, aimed at a point 3 units ahead; a sky behind.
   return field_scene("grass", std::move(ground), grass_material(),
