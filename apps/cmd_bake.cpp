@@ -17,6 +17,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <charconv>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -57,7 +58,8 @@ struct BakeArgs {
   bool size_given = false;
   float grow = 1.0f;
   std::string fur;  // --fur fur|grass: a generated field, -o a prefix (apps/cmd_bake_fur.cpp)
-  FurFieldOptions fur_options;  // the values of --density, --radius, --jitter, --seed
+  FurFieldOptions fur_options;  // the values of --density, --radius, --jitter
+  std::string seed;             // --seed as written: parsed here, as CLI11 wraps -1 and 2^64
   bool fur_given[4] = {};       // which of those four the command line gave
 };
 
@@ -114,7 +116,12 @@ int run_bake_fur_args(const BakeArgs& a) {
   if (a.fur_given[0]) o.density = a.fur_options.density;
   if (a.fur_given[1]) o.radius = a.fur_options.radius;
   if (a.fur_given[2]) o.jitter = a.fur_options.jitter;
-  if (a.fur_given[3]) o.seed = a.fur_options.seed;
+  if (a.fur_given[3]) {
+    const char* end = a.seed.data() + a.seed.size();
+    const auto [p, ec] = std::from_chars(a.seed.data(), end, o.seed);
+    if (a.seed.empty() || ec != std::errc() || p != end)
+      return fail("bake --fur: --seed must be an integer in 0..18446744073709551615", 2);
+  }
   return run_bake_fur(o, a.output, a.depth_scale_given ? a.depth_scale : 0.06f);
 }
 
@@ -315,7 +322,7 @@ void register_bake(CLI::App& app, Action& action) {
       sub->add_option("--jitter", args->fur_options.jitter,
                       "--fur: tip heights vary in [1 - jitter, 1] of full height (fur 0.3, "
                       "grass 0.4)"),
-      sub->add_option("--seed", args->fur_options.seed, "--fur: random seed (default 1)")};
+      sub->add_option("--seed", args->seed, "--fur: random seed, 0..2^64-1 (default 1)")};
   sub->add_option("--grow", args->grow,
                   "--dual: the maps' square over the mesh's x-y bounds, times this (>= 1)");
   sub->callback([&action, args, depth_scale, convention, size, fur_flags] {

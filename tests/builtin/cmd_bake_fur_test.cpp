@@ -65,14 +65,16 @@ TEST_F(CmdBakeFur, WritesTheThreeMapsOfTheField) {
 TEST_F(CmdBakeFur, BadValuesAreOneLineErrorsAndWriteNothing) {
   const std::string out = " -o " + path("f");
   for (const std::string& args : {
-           std::string("--fur cat") + out,                  // unknown kind
-           std::string("--fur fur --size 0") + out,         // size
-           std::string("--fur fur --size 5000") + out,      //
-           std::string("--fur fur --density -1") + out,     // density
-           std::string("--fur fur --radius 0") + out,       // radius
-           std::string("--fur fur --radius nan") + out,     //
-           std::string("--fur fur --jitter 2") + out,       // jitter
-           std::string("--fur fur --seed x") + out,         // seed
+           std::string("--fur cat") + out,               // unknown kind
+           std::string("--fur fur --size 0") + out,      // size
+           std::string("--fur fur --size 5000") + out,   //
+           std::string("--fur fur --density -1") + out,  // density
+           std::string("--fur fur --radius 0") + out,    // radius
+           std::string("--fur fur --radius nan") + out,  //
+           std::string("--fur fur --jitter 2") + out,    // jitter
+           std::string("--fur fur --seed x") + out,      // seed
+           std::string("--fur fur --seed -1") + out,     //
+           std::string("--fur fur --seed 18446744073709551616") + out,
            std::string("--fur fur --depth-scale 0") + out,  // normal map scale
            std::string("--fur fur --normal") + out,         // another bake
            std::string("in.png --fur fur") + out,           // an input image
