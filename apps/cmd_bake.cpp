@@ -17,6 +17,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <charconv>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -26,7 +27,9 @@
 #include <glm/vec3.hpp>
 
 #include "apps/commands.h"
+#include "apps/output.h"
 #include "bake/cone_map.h"
+#include "bake/fur_field.h"
 #include "bake/normal_map.h"
 #include "rasterizer/output_file.h"
 #include "rasterizer/safe_file.h"
@@ -52,7 +55,12 @@ struct BakeArgs {
   bool dual = false;  // --dual: the input is a glTF mesh, -o a prefix (apps/cmd_bake_dual.cpp)
   bool allow_outside_scene_dir = false;  // --dual: its URIs may leave its folder
   int size = 256;
+  bool size_given = false;
   float grow = 1.0f;
+  std::string fur;  // --fur fur|grass: a generated field, -o a prefix (apps/cmd_bake_fur.cpp)
+  FurFieldOptions fur_options;  // the values of --density, --radius, --jitter
+  std::string seed;             // --seed as written: parsed here, as CLI11 wraps -1 and 2^64
+  bool fur_given[4] = {};       // which of those four the command line gave
 };
 
 std::string lower_ext(const std::string& path) {
@@ -62,12 +70,6 @@ std::string lower_ext(const std::string& path) {
   std::string e = path.substr(dot);
   std::transform(e.begin(), e.end(), e.begin(), [](unsigned char c) { return std::tolower(c); });
   return e;
-}
-
-// Value whose sRGB encoding (as write_image does for 8-bit colour) is exactly byte b.
-float srgb_decoded_byte(int b) {
-  const double c = b / 255.0;
-  return static_cast<float>(c <= 0.04045 ? c / 12.92 : std::pow((c + 0.055) / 1.055, 2.4));
 }
 
 // Progress: a bar redrawn on a terminal, nothing until the end otherwise.
@@ -97,7 +99,31 @@ class ProgressBar {
 int run_bake_dual(const std::string& mesh_path, const std::string& prefix, int size, float grow,
                   int threads, bool allow_outside_scene_dir);
 
+int run_bake_fur(const FurFieldOptions& options, const std::string& prefix, float depth_scale);
+
 namespace {
+
+// --fur KIND: the field's options (the kind's defaults where a flag is absent) and what must not
+// come with it; 0 after the bake, else its exit code.
+int run_bake_fur_args(const BakeArgs& a) {
+  if (!a.input.empty() || a.normal || !a.cone.empty() || a.dual)
+    return fail(
+        "bake: --fur makes a field from nothing; it takes no depth image, --normal, --cone "
+        "or --dual",
+        2);
+  FurFieldOptions o = fur_field_defaults(a.fur == "grass" ? FurKind::kGrass : FurKind::kFur);
+  if (a.size_given) o.size = a.size;
+  if (a.fur_given[0]) o.density = a.fur_options.density;
+  if (a.fur_given[1]) o.radius = a.fur_options.radius;
+  if (a.fur_given[2]) o.jitter = a.fur_options.jitter;
+  if (a.fur_given[3]) {
+    const char* end = a.seed.data() + a.seed.size();
+    const auto [p, ec] = std::from_chars(a.seed.data(), end, o.seed);
+    if (a.seed.empty() || ec != std::errc() || p != end)
+      return fail("bake --fur: --seed must be an integer in 0..18446744073709551615", 2);
+  }
+  return run_bake_fur(o, a.output, a.depth_scale_given ? a.depth_scale : 0.06f);
+}
 
 // The checks of the arguments before any input is read: 0 when they pass, else the exit code
 // (2 for usage) after fail()'s one line. `ext` is the output's lower-case extension.
@@ -225,6 +251,10 @@ Status bake_cone(const BakeArgs& a, const Texture& d, const std::string& ext, st
 }
 
 int run_bake(const BakeArgs& a) {
+  if (!a.fur.empty()) return run_bake_fur_args(a);
+  if (a.fur_given[0] || a.fur_given[1] || a.fur_given[2] || a.fur_given[3])
+    return fail("bake: --density, --radius, --jitter and --seed apply to --fur only", 2);
+  if (a.input.empty()) return fail("bake: a depth image is required (or --fur KIND)", 2);
   if (a.dual)
     return run_bake_dual(a.input, a.output, a.size, a.grow, a.threads, a.allow_outside_scene_dir);
   const std::string ext = lower_ext(a.output);
@@ -252,8 +282,8 @@ int run_bake(const BakeArgs& a) {
 void register_bake(CLI::App& app, Action& action) {
   auto args = std::make_shared<BakeArgs>();
   auto* sub = app.add_subcommand("bake", "Bake a normal map or a cone map from a depth image");
-  sub->add_option("depth_image", args->input, "Depth map (0 = top, 1 = deepest); see --height")
-      ->required();
+  sub->add_option("depth_image", args->input,
+                  "Depth map (0 = top, 1 = deepest); see --height (none with --fur)");
   sub->add_option("-o,--output", args->output, "Output image (.exr float, .png, .tif)")->required();
   sub->add_flag("--normal", args->normal, "Bake a tangent-space normal map");
   sub->add_option("--cone", args->cone, "Bake a cone map: conservative, quad or relaxed")
@@ -278,11 +308,27 @@ void register_bake(CLI::App& app, Action& action) {
                 "PREFIX_back.exr and their normal maps");
   sub->add_flag("--allow-outside-scene-dir", args->allow_outside_scene_dir,
                 "--dual: let the glTF file's URIs lead outside its folder (.., symlinks)");
-  sub->add_option("--size", args->size, "--dual: map size in texels (default 256)");
+  CLI::Option* size = sub->add_option(
+      "--size", args->size, "--dual: map size in texels (default 256); --fur: field size (512)");
+  sub->add_option("--fur", args->fur,
+                  "Generate a tileable fur or grass field: -o PREFIX gets PREFIX_depth.png, "
+                  "PREFIX_base_color.png and PREFIX_normal.png (docs/fur.md)")
+      ->check(CLI::IsMember({"fur", "grass"}));
+  CLI::Option* fur_flags[] = {
+      sub->add_option("--density", args->fur_options.density,
+                      "--fur: strands per 100x100 texels (fur 800, grass 90)"),
+      sub->add_option("--radius", args->fur_options.radius,
+                      "--fur: strand radius in texels, 0.5..32 (fur 1.5, grass 2)"),
+      sub->add_option("--jitter", args->fur_options.jitter,
+                      "--fur: tip heights vary in [1 - jitter, 1] of full height (fur 0.3, "
+                      "grass 0.4)"),
+      sub->add_option("--seed", args->seed, "--fur: random seed, 0..2^64-1 (default 1)")};
   sub->add_option("--grow", args->grow,
                   "--dual: the maps' square over the mesh's x-y bounds, times this (>= 1)");
-  sub->callback([&action, args, depth_scale, convention] {
+  sub->callback([&action, args, depth_scale, convention, size, fur_flags] {
     args->depth_scale_given = depth_scale->count() > 0;
+    args->size_given = size->count() > 0;
+    for (int i = 0; i < 4; ++i) args->fur_given[i] = fur_flags[i]->count() > 0;
     args->normal_convention_given = convention->count() > 0;
     action = [args] { return run_bake(*args); };
   });

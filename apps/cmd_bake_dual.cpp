@@ -21,6 +21,7 @@
 #include <glm/matrix.hpp>
 
 #include "apps/commands.h"
+#include "apps/output.h"
 #include "bake/dual_depth_maps.h"
 #include "rasterizer/output_file.h"
 #include "rasterizer/safe_file.h"
@@ -76,15 +77,10 @@ int run_bake_dual(const std::string& mesh_path, const std::string& prefix, int s
   // All four are written in full before any is renamed into place; on failure none is, and
   // files already at those names are left as they were.
   StagedFiles out;
-  auto stage = [&out](const std::string& file, const Result<std::vector<unsigned char>>& bytes) {
-    if (!bytes.ok()) return bytes.status();
-    return out.stage(file,
-                     std::string_view(reinterpret_cast<const char*>(bytes->data()), bytes->size()));
-  };
-  Status st = stage(names[0], encode_plane(names[0], front));
-  if (st.ok()) st = stage(names[1], encode_plane(names[1], back));
-  if (st.ok()) st = stage(names[2], encode_image(names[2], front_n));
-  if (st.ok()) st = stage(names[3], encode_image(names[3], back_n));
+  Status st = stage_encoded(out, names[0], encode_plane(names[0], front));
+  if (st.ok()) st = stage_encoded(out, names[1], encode_plane(names[1], back));
+  if (st.ok()) st = stage_encoded(out, names[2], encode_image(names[2], front_n));
+  if (st.ok()) st = stage_encoded(out, names[3], encode_image(names[3], back_n));
   if (st.ok()) st = out.commit();
   if (!st.ok()) return fail(st.message(), st.exit_code());
   const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cmath>
 #include <filesystem>
 #include <regex>
 
@@ -13,6 +14,18 @@
 #include "scene/image_io.h"
 
 namespace relief::cli {
+
+float srgb_decoded_byte(int b) {
+  const double c = b / 255.0;
+  return static_cast<float>(c <= 0.04045 ? c / 12.92 : std::pow((c + 0.055) / 1.055, 2.4));
+}
+
+Status stage_encoded(StagedFiles& out, const std::string& file,
+                     const Result<std::vector<unsigned char>>& bytes) {
+  if (!bytes.ok()) return bytes.status();
+  return out.stage(file,
+                   std::string_view(reinterpret_cast<const char*>(bytes->data()), bytes->size()));
+}
 
 Status write_text_atomic(const std::string& path, const std::string& text) {
   return write_file_atomic(path, text);

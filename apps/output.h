@@ -3,9 +3,11 @@
 
 #include <map>
 #include <string>
+#include <vector>
 
 #include "base/status.h"
 #include "rasterizer/image.h"
+#include "rasterizer/output_file.h"
 
 namespace relief::cli {
 
@@ -40,6 +42,15 @@ void apply_output_alpha(Image& image, OutputAlpha mode);
 inline int output_channels(OutputAlpha mode) {
   return mode == OutputAlpha::kNone ? 3 : 4;
 }
+
+// The value whose sRGB encoding (as write_image does for 8-bit colour) is exactly byte b: how a
+// baker hands the PNG encoder linear bytes (a normal map's) to store as they are.
+float srgb_decoded_byte(int b);
+
+// Stages the bytes an encoder made for `file` (encode_image, encode_plane) in `out`, or passes on
+// the encoder's error: the bakers that write several files together.
+Status stage_encoded(StagedFiles& out, const std::string& file,
+                     const Result<std::vector<unsigned char>>& bytes);
 
 // "WxH" -> width and height, each in 1..kMaxTargetSize, at most kMaxTargetPixels in all.
 Status parse_size(const std::string& text, int& width, int& height);

@@ -11,6 +11,7 @@
 #include "base/check.h"
 #include "builtin/builtin_bending.h"
 #include "builtin/builtin_curved.h"
+#include "builtin/builtin_fur.h"
 #include "builtin/builtin_impostor.h"
 #include "builtin/builtin_materials.h"
 #include "builtin/builtin_parts.h"
@@ -230,6 +231,9 @@ const std::vector<BuiltinSceneInfo>& builtin_scenes() {
       {"materials",
        "four relief spheres lit by the glTF metallic-roughness BRDF (smooth and rough metal and "
        "dielectric) on a relief floor of rough and polished tiles, spot light in candela"},
+      {"fur", "a fur-covered sphere (a generated fur field, steep_parallax, 32 steps), one sun"},
+      {"grass",
+       "a grass-covered ground (a generated grass field, steep_parallax) seen 15 deg above it"},
   };
   return scenes;
 }
@@ -256,6 +260,8 @@ Result<Scene> make_builtin_scene(const std::string& name) {
   if (name == "teatime") return make_teatime_scene();
   if (name == "impostor") return make_impostor_scene();
   if (name == "materials") return make_materials_scene();
+  if (name == "fur") return make_fur_scene();
+  if (name == "grass") return make_grass_scene();
   if (name == "sphere" || name == "cylinder" || name == "torus" || name == "teapot")
     return make_curved_scene(name);
   std::string known;

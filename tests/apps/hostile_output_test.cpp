@@ -175,6 +175,11 @@ TEST(Hostile, FullDiskKeepsTheOldBakeOutputs) {
       dir, "bake --dual mesh.gltf -o dual --size 64",
       {"dual_front.exr", "dual_back.exr", "dual_front_normal.exr", "dual_back_normal.exr"},
       "dual_front.exr");
+  for (const char* s : {"_depth.png", "_base_color.png", "_normal.png"})
+    put(dir / (std::string("fur") + s), std::string("old ") + s);
+  expect_full_disk_keeps(dir, "bake --fur fur -o fur --size 128",
+                         {"fur_depth.png", "fur_base_color.png", "fur_normal.png"},
+                         "fur_depth.png");
 }
 
 // Runs `write` in a child process whose files may not grow past `limit` bytes (RLIMIT_FSIZE);

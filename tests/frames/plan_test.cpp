@@ -72,6 +72,8 @@ TEST(Plan, EveryBuiltinSceneListsExactlyTheExpectedPasses) {
       {"teatime", {"shadow:spot", "main"}},    // the fill light casts none
       {"impostor", {"main"}},                  // its sun casts none
       {"materials", {"shadow:spot", "main"}},  // the fill light casts none
+      {"fur", {"main"}},                       // its sun casts none
+      {"grass", {"main"}},                     // its sun casts none
   };
   for (const BuiltinSceneInfo& info : builtin_scenes()) {
     Result<Scene> s = make_builtin_scene(info.name);
