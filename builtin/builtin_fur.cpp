@@ -1,7 +1,8 @@
 // The built-in `fur` and `grass` scenes: a generated field (bake/fur_field.h) tiled over a sphere
-// and over a ground plane, rendered by steep parallax mapping with 32 depth planes (McGuire and
-// McGuire 2005: dense tall strands stop the march early, one polygon and no shells). The polygon
-// is the level of the strand tips; the relief carves the skin or ground below it.
+// and over a ground plane, rendered by steep parallax mapping with 32 depth planes and the
+// depth-darkening self-shadow (McGuire and McGuire 2005: dense tall strands stop the march early,
+// one polygon and no shells). The polygon is the level of the strand tips; the relief carves the
+// skin or ground below it.
 #include "builtin/builtin_fur.h"
 
 #include <memory>
@@ -33,8 +34,10 @@ Material field_material(const std::string& name, const FurFieldOptions& options,
   Material m;
   m.name = name;
   m.technique = "steep_parallax";
-  m.params = {{"steps", 32.0f}, {"depth_scale", depth_scale}};
+  // the poster's fur self-shadow: darkening with depth (shadow=depth, index 1), no shadow rays
+  m.params = {{"steps", 32.0f}, {"depth_scale", depth_scale}, {"shadow", 1.0f}};
   m.textures = {{"base_color", color}, {"depth", depth}, {"normal", normal}};
+  m.self_shadow = true;  // the darkening is the self-shadow effect (--no-self-shadow: off)
   m.specular = 0.1f;
   m.shininess = 16.0f;
   return m;
