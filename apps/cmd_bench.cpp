@@ -368,7 +368,7 @@ void register_bench(CLI::App& app, Action& action) {
   sub->add_option("--techniques", a->techniques,
                   "Comma-separated techniques (default: all with a depth map)");
   sub->add_option("--fields", a->fields,
-                  "Built-in height fields: bricks, pattern, thin, spikes, ramp, none")
+                  "Built-in height fields: bricks, pattern, thin, spikes, ramp, fur, grass, none")
       ->capture_default_str();
   sub->add_option("--lod", a->lod,
                   "level0 (depth map without mips), as-rendered (with its mips and the "

@@ -116,13 +116,16 @@ Result<Texture> make_generated_depth(const std::string& name, int size) {
 }
 
 const std::vector<std::string>& builtin_field_names() {
-  static const std::vector<std::string> names = {"bricks", "pattern", "thin", "spikes", "ramp"};
+  static const std::vector<std::string> names = {"bricks", "pattern", "thin", "spikes",
+                                                 "ramp",   "fur",     "grass"};
   return names;
 }
 
 Result<Field> builtin_field(const std::string& name) {
-  if (name == "bricks" || name == "pattern") {
-    Result<Scene> s = make_builtin_scene(name == "bricks" ? "plane" : "pattern");
+  // the maps of built-in scenes: `plane`'s bricks, `pattern`, and the generated fur and grass
+  // fields of `fur` and `grass` (bake/fur_field.h)
+  if (name == "bricks" || name == "pattern" || name == "fur" || name == "grass") {
+    Result<Scene> s = make_builtin_scene(name == "bricks" ? "plane" : name);
     if (!s.ok()) return s.status();
     Result<Field> f = field_of_material(*s, 0);
     if (!f.ok()) return f.status();

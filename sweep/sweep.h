@@ -68,8 +68,9 @@ struct Field {
   float depth_scale() const { return material.params.at("depth_scale"); }
 };
 
-// The built-in fields: `bricks` (the `plane` scene's map), `pattern` (make_pattern_depth) and the
-// generated `thin`, `spikes` and `ramp` (make_generated_depth), in that order.
+// The built-in fields: `bricks` (the `plane` scene's map), `pattern` (make_pattern_depth), the
+// generated `thin`, `spikes` and `ramp` (make_generated_depth), and the `fur` and `grass` scenes'
+// strand fields (bake/fur_field.h, docs/fur.md), in that order.
 Result<std::vector<Field>> builtin_fields();
 // The names of builtin_fields(), in order.
 const std::vector<std::string>& builtin_field_names();
