@@ -33,15 +33,21 @@ const ParamSpec kParams[] = {
 enum Param { kLayers, kDepthScaleParam, kShadowStrength };
 
 // The shell this fragment lies on: index i and count N (rounded: interpolation of the constant
-// per-copy values may be off by an ulp), and its height fraction h = i / N.
+// per-copy values may be off by an ulp), and its height fraction h = i / N. Clamped to
+// 0 <= i < N, 1 <= N <= 256, NaN to the bounds, so that a draw without the layer tags (a caller
+// of prepare_instances(scene) alone) still shades finite values: N = 1, the base.
 template <class F>
 struct Shell {
   F index, count, height;
 };
 template <class F>
 Shell<F> fragment_shell(const FragIn<F>& in) {
-  const F i = vfloor(in.quadric.x + F(0.5f));
-  const F n = vmax(vfloor(in.quadric.y + F(0.5f)), F(1.0f));
+  F n = vfloor(in.quadric.y + F(0.5f));
+  n = select(n >= F(1.0f), n, F(1.0f));
+  n = select(n <= F(256.0f), n, F(256.0f));
+  F i = vfloor(in.quadric.x + F(0.5f));
+  i = select(i >= F(0.0f), i, F(0.0f));
+  i = select(i <= n - F(1.0f), i, n - F(1.0f));
   return {i, n, i / n};
 }
 

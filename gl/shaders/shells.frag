@@ -35,8 +35,12 @@ float visibility(int i, vec3 l) {
 ShadeOut shade(FragIn in_) {
   ShadeOut o = shade_out_default();
   // the shell (plugins/shells.cpp fragment_shell) and its coverage, N - N * depth >= i
+  float count = floor(in_.quadric.y + 0.5);
+  count = count >= 1.0 ? count : 1.0;  // not clamp(): NaN goes to the bound as in the C++
+  count = count <= 256.0 ? count : 256.0;
   float index = floor(in_.quadric.x + 0.5);
-  float count = max(floor(in_.quadric.y + 0.5), 1.0);
+  index = index >= 0.0 ? index : 0.0;
+  index = index <= count - 1.0 ? index : count - 1.0;
   float height = index / count;
   float coverage = 1.0;
   if (has_texture[kDepthSlot]) {
