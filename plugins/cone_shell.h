@@ -188,6 +188,7 @@ constexpr PluginDescriptor cone_plugin(const char* name, const char* description
           &relief_depth_output,
           nullptr,
           nullptr,
+          nullptr,
           nullptr};
 }
 

@@ -82,6 +82,7 @@ const PluginDescriptor kExactPlugin = {
     &create_exact,
     &destroy_exact,
     nullptr,
+    nullptr,  // layers
 };
 
 }  // namespace relief

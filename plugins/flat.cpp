@@ -69,6 +69,7 @@ const PluginDescriptor kFlatPlugin = {
     nullptr,
     nullptr,
     nullptr,
+    nullptr,  // layers
 };
 
 }  // namespace relief

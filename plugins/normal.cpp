@@ -75,6 +75,7 @@ const PluginDescriptor kNormalPlugin = {
     nullptr,
     nullptr,
     nullptr,
+    nullptr,  // layers
 };
 
 }  // namespace relief

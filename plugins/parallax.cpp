@@ -70,6 +70,7 @@ const PluginDescriptor kParallaxPlugin = {
     nullptr,
     nullptr,
     nullptr,
+    nullptr,  // layers
 };
 
 }  // namespace relief

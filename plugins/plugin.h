@@ -24,8 +24,8 @@
 
 namespace relief {
 
-inline constexpr uint32_t kPluginAbiVersion = 4;  // 2: reads_texture; 3: glTF material terms;
-                                                  // 4: height-field AO uniforms
+inline constexpr uint32_t kPluginAbiVersion = 5;  // 2: reads_texture; 3: glTF material terms;
+                                                  // 4: height-field AO uniforms; 5: layers
 
 // ---- parameters ----
 enum class ParamType : uint8_t { kFloat, kInt, kBool, kEnum };
@@ -102,6 +102,13 @@ struct PluginDescriptor {
   // `slot`; null means it reads every slot it declares. The planner neither requires nor bakes
   // (derived maps) a slot that is not read, so a parameter that switches a map off saves its bake.
   bool (*reads_texture)(const float* params, int slot);
+  // Optional: how many offset copies of the surface the prepare stage draws for a material with
+  // these parameter values (schema order); null means 1, the plain surface. With the hook, copy
+  // k of N (drawn in order k = 0..N-1, N >= 1) is the shell of height fraction h = (N-1-k)/N,
+  // moved (1 - h) relief heights along -N (the polygon is the level of depth 0), and carries its
+  // shell index N-1-k and N in varying::kQuadric (render/prepare.cpp); the planner alpha-tests
+  // (MASK) such materials. Shell (fur) techniques use it.
+  int (*layers)(const float* params);
 };
 
 }  // namespace relief

@@ -62,6 +62,7 @@ const PluginDescriptor kPomPlugin = {
     nullptr,
     nullptr,
     &reads_max_mip_slot<kLodParam, kReliefMaxMipSlot>,
+    nullptr,  // layers
 };
 
 }  // namespace relief

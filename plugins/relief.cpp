@@ -69,6 +69,7 @@ const PluginDescriptor kReliefPlugin = {
     nullptr,
     nullptr,
     &reads_max_mip_slot<kLodParam, kReliefMaxMipSlot>,
+    nullptr,  // layers
 };
 
 }  // namespace relief

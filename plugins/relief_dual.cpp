@@ -175,6 +175,7 @@ const PluginDescriptor kReliefDualPlugin = {
     nullptr,
     nullptr,
     nullptr,
+    nullptr,  // layers
 };
 
 }  // namespace relief

@@ -179,6 +179,7 @@ const PluginDescriptor kReliefQuadricPlugin = {
     nullptr,
     nullptr,
     &reads_texture,
+    nullptr,  // layers
 };
 
 }  // namespace relief

@@ -251,6 +251,28 @@ F shell_height_ao(const MaterialUniforms& m, const FragIn<F>& in, const TextureD
   return height_ao_factor(r.ao, m.height_ao.strength);
 }
 
+// The colour of the surface point `pos` (shading normal n, unit eye-to-point direction w, uv in
+// varying space) through finish_surface and shade_direct: each light's visibility is
+// ray_visibility(l, lit) and then, with kReceive, the light's shadow map at pos where that left the
+// point lit. Fetches and shadow steps are added to `o`.
+template <bool kReceive, class F, class RayVisibility>
+V3<F> shade_point(const ShadeContext& ctx, const FragIn<F>& in, const V2<F>& uv, const V3<F>& pos,
+                  const V3<F>& n, const V3<F>& w, SurfaceColor<F>& sc, mask_t<F> active,
+                  ShadeOut<F>& o, RayVisibility&& ray_visibility) {
+  auto visibility = [&](int i, V3<F> l, mask_t<F> lit) -> F {
+    F vis = ray_visibility(l, lit);
+    if constexpr (kReceive) {
+      if (const ShadowMapView* sm = ctx.frame->lights[i].shadow)
+        vis =
+            vis * shadow_map_visibility(*sm, pos, n, l, active & lit & (vis > F(0.0f)), o.fetches);
+    }
+    return vis;
+  };
+  return finish_surface(ctx, in, uv, sc, o.fetches, [&] {
+    return shade_direct(*ctx.frame, *ctx.material, pos, n, -w, sc, visibility);
+  });
+}
+
 template <class Search, EffectMask kEffects>
 struct ReliefKernel {
   static constexpr bool kShadow = (kEffects & kEffectSelfShadow) != 0;
@@ -289,7 +311,7 @@ struct ReliefKernel {
       if constexpr (kShadow && requires { Search::self_occlusion(ctx, hit); })
         sc.occlusion = sc.occlusion * Search::self_occlusion(ctx, hit);
       // lighting at the displaced point: self-shadow ray, then the light's shadow map (lit lanes)
-      auto visibility = [&](int i, V3<F> l, mask_t<F> lit) -> F {
+      auto ray_visibility = [&](const V3<F>& l, mask_t<F> lit) -> F {
         F vis(1.0f);
         if constexpr (kShadow) {
           if (depth.texture) {
@@ -298,16 +320,9 @@ struct ReliefKernel {
                 Search::shadow(ctx, depth, hit, light_step(lt, depth_scale), lt.z, active & lit, o);
           }
         }
-        if constexpr (kReceive) {
-          if (const ShadowMapView* sm = ctx.frame->lights[i].shadow)
-            vis = vis *
-                  shadow_map_visibility(*sm, pos, n, l, active & lit & (vis > F(0.0f)), o.fetches);
-        }
         return vis;
       };
-      o.color = finish_surface(ctx, in, hit.uv, sc, o.fetches, [&] {
-        return shade_direct(*ctx.frame, m, pos, n, -w, sc, visibility);
-      });
+      o.color = shade_point<kReceive>(ctx, in, hit.uv, pos, n, w, sc, active, o, ray_visibility);
       o.shading_normal = n;
       return o;
     }

@@ -92,6 +92,7 @@ const PluginDescriptor kSteepParallaxPlugin = {
     nullptr,
     nullptr,
     &reads_max_mip_slot<kLodParam, kReliefMaxMipSlot>,
+    nullptr,  // layers
 };
 
 }  // namespace relief

@@ -328,6 +328,21 @@ void bind_surface(const Material& m, BoundMaterial& b) {
   b.double_sided = m.double_sided;
 }
 
+// A layered technique (PluginDescriptor::layers) draws its shells alpha-tested, so that the depth
+// test keeps the outermost opaque shell of each pixel: MASK at the material's own cutoff when it
+// is MASK already (coverage is 0 or 1, times the base colour's alpha), else at 0.5. BLEND is
+// replaced too: N shells blended in draw order would composite inner over outer ones.
+void bind_layers(const Material& m, BoundMaterial& b) {
+  if (!b.plugin->layers) return;
+  const MaterialLayers layers = material_layers(b);
+  if (m.alpha_mode != AlphaMode::kMask) b.uniforms.alpha_cutoff = 0.5f;
+  b.uniforms.alpha_mode = AlphaMode::kMask;
+  b.reasons.push_back("layers: " + std::to_string(layers.layers) + " shells, outermost first, " +
+                      "alpha-tested against the depth map (MASK at " +
+                      short_number(b.uniforms.alpha_cutoff) +
+                      (m.alpha_mode == AlphaMode::kBlend ? ", instead of BLEND)" : ")"));
+}
+
 // The effects the material asks for that its plugin supports and this frame allows.
 void bind_effects(const Scene& scene, const Material& m, const RenderOptions& opt,
                   BoundMaterial& b) {
@@ -394,6 +409,7 @@ Result<BoundMaterial> bind_material(const Scene& scene, const Material& m, const
   for (size_t i = 0; i < values->size(); ++i) b.uniforms.params[i] = (*values)[i];
   RELIEF_RETURN_IF_ERROR(bind_textures(m, b));
   bind_surface(m, b);
+  bind_layers(m, b);
   bind_effects(scene, m, opt, b);
   RELIEF_RETURN_IF_ERROR(bind_height_ao(m, opt, b));
   return b;

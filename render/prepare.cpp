@@ -1,7 +1,9 @@
 // The prepare stage shared by both backends (render/render.h): world-space varyings in the standard
 // layout and plugin state, once per frame; clip positions per view.
+#include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <string_view>
 
 #include <glm/geometric.hpp>
 #include <glm/matrix.hpp>
@@ -10,7 +12,68 @@
 
 namespace relief {
 
-std::vector<PreparedInstance> prepare_instances(const Scene& scene) {
+namespace {
+
+// Replaces d's single surface by `layers` shells (PluginDescriptor::layers): copy k, drawn k-th,
+// is shell i = layers-1-k of height fraction h = i/layers, outermost first so that the depth test
+// rejects the inner shells behind opaque outer texels. The polygon is the level of the tallest
+// tips (depth 0), so shell i lies (1 - h) relief heights below it along the unit world normal; it
+// carries (i, layers) in the quadric slot, which shell techniques never read as a quadric.
+void make_shells(PreparedInstance& d, const std::vector<uint32_t>& indices, int layers,
+                 float depth_scale) {
+  const size_t n = d.world.size();
+  const int nv = d.num_varyings;
+  const std::vector<glm::vec4> world = std::move(d.world);
+  const std::vector<float> varyings = std::move(d.varyings);
+  d.world.resize(n * layers);
+  d.varyings.resize(varyings.size() * layers);
+  auto shell_indices = std::make_shared<std::vector<uint32_t>>();
+  shell_indices->reserve(indices.size() * layers);
+  for (int k = 0; k < layers; ++k) {
+    const int i = layers - 1 - k;
+    const float below = 1.0f - static_cast<float>(i) / static_cast<float>(layers);
+    for (size_t v = 0; v < n; ++v) {
+      const float* src = &varyings[v * nv];
+      float* o = &d.varyings[(k * n + v) * nv];
+      std::copy(src, src + nv, o);
+      const glm::vec3 nrm(src[varying::kNormal], src[varying::kNormal + 1],
+                          src[varying::kNormal + 2]);
+      const float len = glm::length(nrm);
+      // relief_world_height (plugins/relief_shell.h) at the vertex's tile scale
+      const float height =
+          depth_scale * (src[varying::kTileScale] + src[varying::kTileScale + 1]) * 0.5f;
+      const glm::vec3 unit = len > 0.0f && std::isfinite(len) ? nrm / len : glm::vec3(0.0f);
+      const glm::vec3 offset = unit * (-below * height);
+      const glm::vec4 wp = world[v] + glm::vec4(offset, 0.0f);
+      d.world[k * n + v] = wp;
+      for (int c = 0; c < 3; ++c) o[varying::kPosition + c] = wp[c];
+      o[varying::kQuadric] = static_cast<float>(i);
+      o[varying::kQuadric + 1] = static_cast<float>(layers);
+    }
+    const uint32_t base = static_cast<uint32_t>(k * n);
+    for (uint32_t index : indices) shell_indices->push_back(base + index);
+  }
+  d.layers = layers;
+  d.layer_indices = std::move(shell_indices);
+  d.indices = d.layer_indices.get();
+}
+
+}  // namespace
+
+MaterialLayers material_layers(const BoundMaterial& material) {
+  constexpr int kMaxLayers = 256;
+  const PluginDescriptor* plugin = material.plugin;
+  MaterialLayers out;
+  if (!plugin || !plugin->layers) return out;
+  out.layers = std::clamp(plugin->layers(material.uniforms.params), 1, kMaxLayers);
+  for (int p = 0; p < plugin->num_params; ++p)
+    if (std::string_view(plugin->params[p].name) == "depth_scale")
+      out.depth_scale = material.uniforms.params[p];
+  return out;
+}
+
+std::vector<PreparedInstance> prepare_instances(const Scene& scene,
+                                                std::span<const MaterialLayers> layers) {
   std::vector<PreparedInstance> out;
   out.reserve(scene.instances.size());
   for (size_t i = 0; i < scene.instances.size(); ++i) {
@@ -74,6 +137,8 @@ std::vector<PreparedInstance> prepare_instances(const Scene& scene) {
           o[varying::kCount + k] = ext[k];
       }
     }
+    if (static_cast<size_t>(inst.material) < layers.size() && layers[inst.material].layers > 0)
+      make_shells(d, mesh.indices, layers[inst.material].layers, layers[inst.material].depth_scale);
     out.push_back(std::move(d));
   }
   return out;
@@ -82,7 +147,9 @@ std::vector<PreparedInstance> prepare_instances(const Scene& scene) {
 PreparedFrame prepare_frame(const Scene& scene, const Plan& plan) {
   const auto t0 = std::chrono::steady_clock::now();
   PreparedFrame frame;
-  frame.instances = prepare_instances(scene);
+  std::vector<MaterialLayers> layers(plan.materials.size());
+  for (size_t m = 0; m < plan.materials.size(); ++m) layers[m] = material_layers(plan.materials[m]);
+  frame.instances = prepare_instances(scene, layers);
   frame.states.resize(plan.materials.size());
   for (size_t m = 0; m < plan.materials.size(); ++m) {
     const PluginDescriptor* plugin = plan.materials[m].plugin;

@@ -129,9 +129,25 @@ struct PreparedInstance {
   std::vector<float> varyings;         // num_varyings per vertex
   int num_varyings = varying::kCount;  // kCountExtended when the mesh has COLOR_0 or TEXCOORD_1
   const std::vector<uint32_t>* indices = nullptr;
+  // A layered material (PluginDescriptor::layers): the number of shell copies in world and
+  // varyings (0: not layered), and their indices, which `indices` then points at (held on the
+  // heap, so that moving the instance keeps the pointer valid).
+  int layers = 0;
+  std::shared_ptr<const std::vector<uint32_t>> layer_indices;
 };
-// Every instance of the scene, in submission order.
-std::vector<PreparedInstance> prepare_instances(const Scene& scene);
+// How the prepare stage draws one material: `layers` offset shells of the surface (0: the plain
+// surface), spread over the relief height of its `depth_scale` (uv units; plugins/relief_shell.h).
+struct MaterialLayers {
+  int layers = 0;
+  float depth_scale = 0.0f;
+};
+// Every instance of the scene, in submission order; `layers` is parallel to Scene::materials
+// (empty or shorter: plain surfaces).
+std::vector<PreparedInstance> prepare_instances(const Scene& scene,
+                                                std::span<const MaterialLayers> layers = {});
+// A bound material's shells: its plugin's layers hook clamped to 1..256 (0 without a hook) and
+// its `depth_scale` parameter (0 when the schema has none).
+MaterialLayers material_layers(const BoundMaterial& material);
 
 struct PreparedFrame {
   std::vector<PreparedInstance> instances;    // parallel to Scene::instances

@@ -26,7 +26,9 @@ inline constexpr int kPosition = 0;    // world position xyz
 inline constexpr int kNormal = 3;      // world normal xyz (not normalised)
 inline constexpr int kTangent = 6;     // world tangent xyz, bitangent sign w
 inline constexpr int kUv = 10;         // texture coordinates (material tiling applied)
-inline constexpr int kQuadric = 12;    // per-vertex quadric coefficients a, b
+inline constexpr int kQuadric = 12;    // per-vertex quadric coefficients a, b; for a layered
+                                       // material (PluginDescriptor::layers) instead the shell
+                                       // index i and the layer count N, as floats
 inline constexpr int kTileScale = 14;  // texture-tile size sx, sy in object units
 inline constexpr int kCount = 16;
 // Present only when the mesh has COLOR_0 or TEXCOORD_1 (FragmentPacket::num_varyings is then

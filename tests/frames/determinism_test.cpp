@@ -30,7 +30,7 @@ bool identical(const Framebuffer& a, const Framebuffer& b) {
 
 TEST(Determinism, PlaneIsBitIdenticalForAnyThreadCountAndTileSize) {
   for (const char* scene : {"plane", "pattern"})
-    for (const char* technique : {"flat", "normal", "relief", "pom", "exact"}) {
+    for (const char* technique : {"flat", "normal", "relief", "pom", "exact", "shells"}) {
       const RenderResult ref = render_plane(1, 64, technique, false, scene);
       for (auto [threads, tile] :
            {std::pair{2, 64}, std::pair{7, 64}, std::pair{2, 16}, std::pair{7, 128}}) {
@@ -44,7 +44,7 @@ TEST(Determinism, PlaneIsBitIdenticalForAnyThreadCountAndTileSize) {
 TEST(Determinism, ScalarAndSimdLanesAgreeBitForBit) {
   for (const char* scene : {"plane", "pattern"})
     for (const char* technique :
-         {"flat", "normal", "parallax", "steep_parallax", "pom", "relief"}) {
+         {"flat", "normal", "parallax", "steep_parallax", "pom", "relief", "shells"}) {
       const RenderResult simd = render_plane(2, 64, technique, false, scene);
       const RenderResult scalar = render_plane(2, 64, technique, true, scene);
       EXPECT_TRUE(identical(simd.framebuffer, scalar.framebuffer)) << scene << " " << technique;

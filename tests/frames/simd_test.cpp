@@ -115,7 +115,7 @@ TEST(Simd, EveryTechniqueIsBitIdenticalAcrossLevels) {
   const Case cases[] = {
       {"room",
        {"flat", "normal", "parallax", "steep_parallax", "pom", "relief", "cone", "cone_quad",
-        "relaxed_cone", "exact", "relief_quadric"}},
+        "relaxed_cone", "exact", "relief_quadric", "shells"}},
       {"sphere", {"relief_quadric"}},
       {"impostor", {"relief_dual"}},
   };

@@ -263,11 +263,13 @@ TEST_P(GlAgreementScene, MatchesCpu) {
         // GL counts the fragments the CPU rejects early. Those variants: GL counts at least the
         // CPU's fragments, and the per-fragment work is compared where no fragment was hidden.
         // The twins that can discard (the plugins supporting kEffectSilhouette: relief_quadric,
-        // relief_dual) run without early tests too (common.glsl RELIEF_MAY_DISCARD).
+        // relief_dual) run without early tests too (common.glsl RELIEF_MAY_DISCARD), and so do
+        // MASK materials (the layered `shells` is always MASK).
         bool writes_depth = false;
         for (const BoundMaterial& m : plan->materials)
           writes_depth = writes_depth || m.plugin->depth_output(m.effects) != DepthOutput::kNone ||
-                         (m.plugin->supported_effects & kEffectSilhouette) != 0;
+                         (m.plugin->supported_effects & kEffectSilhouette) != 0 ||
+                         m.uniforms.alpha_mode == AlphaMode::kMask;
         if (writes_depth && wg.fragments != wc.fragments) {
           EXPECT_GT(wg.fragments, wc.fragments);
           std::printf("[ note     ] %s: GL shaded %llu fragments hidden before its depth test\n",

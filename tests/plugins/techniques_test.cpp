@@ -79,15 +79,17 @@ struct Scene {
   }
 };
 
-// The registered plugins whose one required texture is `depth` (plugins that need more derived
-// maps are covered on rendered scenes by tests/sweep/techniques_render_test.cpp).
+// The registered plugins whose one required texture is `depth` and that search the height field
+// per fragment (plugins that need more derived maps are covered on rendered scenes by
+// tests/sweep/techniques_render_test.cpp; layered ones, `shells`, which draw the relief as
+// geometry and never search or write depth, by tests/frames/shells_test.cpp).
 std::vector<const PluginDescriptor*> relief_plugins() {
   std::vector<const PluginDescriptor*> out;
   for (const PluginDescriptor* p : PluginRegistry::global().all()) {
     int required = 0;
     for (int s = 0; s < p->num_textures; ++s) required += p->textures[s].required;
     const int d = depth_slot(*p);
-    if (d >= 0 && p->textures[d].required && required == 1) out.push_back(p);
+    if (d >= 0 && p->textures[d].required && required == 1 && !p->layers) out.push_back(p);
   }
   return out;
 }

@@ -299,8 +299,10 @@ struct PacketCase {
 
 // The techniques that search along the view ray (all but parallax's one offset and the
 // surface-only shaders, whose hit is the fragment itself).
+// shells: the hit is the fragment's own point on its shell polygon (uv unmoved, depth the
+// shell's), not a point along this polygon's eye ray
 bool hit_on_ray(const std::string& name, const Case& c) {
-  return name != "parallax" && (name != "relief_quadric" || c.quadric == 0);
+  return name != "parallax" && name != "shells" && (name != "relief_quadric" || c.quadric == 0);
 }
 bool cone_family(const std::string& name) {
   return name == "cone" || name == "cone_quad" || name == "relaxed_cone";

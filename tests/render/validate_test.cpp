@@ -83,7 +83,7 @@ TEST_F(Validate, AnUnknownTechniqueIsDataToTheSceneAndAnErrorToTheValidator) {
   expect_invalid(f, f + ": " + kExt +
                         "/technique: unknown technique 'nosuch' (known: cone, cone_quad, exact, "
                         "flat, normal, parallax, pom, relaxed_cone, relief, relief_dual, "
-                        "relief_quadric, steep_parallax)");
+                        "relief_quadric, shells, steep_parallax)");
 }
 
 TEST_F(Validate, BadParameterValuesNameTheirPointer) {
