@@ -9,7 +9,9 @@
 // everywhere. The planner alpha-tests the material (MASK), so the depth test keeps the outermost
 // opaque shell of every pixel. Shading uses the fragment's own uv and world position: the shell
 // is the surface it shows. Self-shadow is Lengyel et al.'s approximation, which the steep parallax
-// paper borrows: light falls off with depth by 1 - shadow_strength * (1 - h).
+// paper borrows: light falls off with depth by 1 - shadow_strength * (1 - h) (shaders_cpp/shadow.h
+// depth_darkening, as steep parallax's shadow=depth), and a light below the tangent plane is
+// blocked.
 #undef HWY_TARGET_INCLUDE
 #define HWY_TARGET_INCLUDE "plugins/shells.cpp"
 #include <hwy/foreach_target.h>  // IWYU pragma: keep
@@ -83,14 +85,19 @@ struct ShellsKernel {
       const V3<F> n = sample_normal_map(m, kNormalSlot, view.tf, in.uv, in, F(1.0f), o.fetches);
       SurfaceColor<F> sc = sample_surface(m, kBaseColorSlot, in.uv, in, o.fetches, &o.alpha);
       o.alpha = o.alpha * coverage;
+      constexpr bool kSelfShadow = (kEffects & kEffectSelfShadow) != 0;
       F light(1.0f);
-      if constexpr ((kEffects & kEffectSelfShadow) != 0) {
-        light = F(1.0f) - F(m.params[kShadowStrength]) * (F(1.0f) - s.height);
+      if constexpr (kSelfShadow) {
+        light = depth_darkening(F(1.0f) - s.height, m.params[kShadowStrength]);
         sc.occlusion = sc.occlusion * light;
       }
+      // a light below the tangent plane is blocked, as steep parallax's shadow=depth has it
       o.color = shade_point<(kEffects & kEffectReceiveShadow) != 0>(
           ctx, in, in.uv, in.position, n, view.w, sc, covered_lanes(in), o,
-          [&](const V3<F>&, mask_t<F>) { return light; });
+          [&](const V3<F>& l, mask_t<F>) {
+            if constexpr (kSelfShadow) return select(dot(view.tf.n, l) > F(0.0f), light, F(0.0f));
+            return light;
+          });
       o.shading_normal = n;
       return o;
     }

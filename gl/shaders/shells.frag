@@ -17,15 +17,19 @@ const int kDepthSlot = kSlot_shells_depth;
 #include "common.glsl"
 #include "ray.glsl"
 #include "search.glsl"
+#include "shadow.glsl"
 #include "shadow_map.glsl"
 
 // What the C++ visibility lambda captures: the shell's light factor, then (receivers) the
 // light's shadow map at the fragment.
 float shell_light;
-vec3 shell_pos, shell_n;
+vec3 shell_pos, shell_n, shell_geo_n;
 float shell_fetches;
 float visibility(int i, vec3 l) {
   float vis = shell_light;
+#if EFFECT_SELF_SHADOW
+  if (dot(shell_geo_n, l) <= 0.0) vis = 0.0;  // below the tangent plane: blocked
+#endif
 #if EFFECT_RECEIVE_SHADOW
   if (vis > 0.0) vis = vis * shadow_map_visibility(i, shell_pos, shell_n, l, shell_fetches);
 #endif
@@ -75,12 +79,13 @@ ShadeOut shade(FragIn in_) {
   }
   shell_light = 1.0;
 #if EFFECT_SELF_SHADOW
-  shell_light = 1.0 - material.params[kShadowStrength] * (1.0 - height);
+  shell_light = depth_darkening(1.0 - height, material.params[kShadowStrength]);
 #endif
   vec2 mr = sample_metallic_roughness(in_.uv, in_, o.fetches);
   // C++: SurfaceColor::occlusion times the shell's factor, then the occlusion texture
   float occlusion = shell_light * surface_occlusion(in_.uv, in_, o.fetches);
   shell_pos = in_.position;
+  shell_geo_n = tf.n;
   shell_n = n;
   shell_fetches = o.fetches;
   albedo = albedo * in_.color.rgb;  // COLOR_0 (plugins/surface.h sample_albedo)
