@@ -60,9 +60,5 @@ int main(int argc, char** argv) {
           [scene, &c](benchmark::State& s) { relief::run_scene(s, scene, c); })
           ->Unit(benchmark::kMillisecond)
           ->UseRealTime();
-  benchmark::Initialize(&argc, argv);
-  if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
-  benchmark::RunSpecifiedBenchmarks();
-  benchmark::Shutdown();
-  return 0;
+  return relief::run_registered_benchmarks(argc, argv);
 }

@@ -89,6 +89,15 @@ inline WorkCounters time_technique(benchmark::State& state, const char* scene_na
   return work;
 }
 
+// Runs the registered benchmarks the command line selects; the tail of a benchmark's main().
+inline int run_registered_benchmarks(int argc, char** argv) {
+  benchmark::Initialize(&argc, argv);
+  if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
+  benchmark::RunSpecifiedBenchmarks();
+  benchmark::Shutdown();
+  return 0;
+}
+
 // Registers one benchmark `prefix` + case name per case (milliseconds, real time), then runs
 // those the command line selects; the body of a benchmark's main().
 template <size_t N, typename Run>
@@ -99,11 +108,7 @@ int run_technique_cases(int argc, char** argv, const char* prefix, const Techniq
                                  [&c, run](benchmark::State& s) { run(s, c); })
         ->Unit(benchmark::kMillisecond)
         ->UseRealTime();
-  benchmark::Initialize(&argc, argv);
-  if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
-  benchmark::RunSpecifiedBenchmarks();
-  benchmark::Shutdown();
-  return 0;
+  return run_registered_benchmarks(argc, argv);
 }
 
 }  // namespace relief

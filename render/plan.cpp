@@ -10,6 +10,7 @@
 #include <glm/trigonometric.hpp>
 
 #include "bake/environment_bake.h"
+#include "plugins/registry.h"
 #include "render/derived_maps.h"
 #include "render/render.h"
 #include "render/validate.h"
@@ -343,6 +344,19 @@ void bind_layers(const Material& m, BoundMaterial& b) {
                       (m.alpha_mode == AlphaMode::kBlend ? ", instead of BLEND)" : ")"));
 }
 
+// Whether the bound material's self-shadow is a darkening with depth rather than rays: shells,
+// and a technique whose `shadow` parameter is set to its `depth` choice (steep parallax).
+bool self_shadow_by_depth(const BoundMaterial& b) {
+  if (b.plugin->layers) return true;
+  const int i = param_index(*b.plugin, "shadow");
+  if (i < 0 || !b.plugin->params[i].choices) return false;
+  const std::string choices = std::string("|") + b.plugin->params[i].choices + "|";
+  const size_t at = choices.find("|depth|");
+  if (at == std::string::npos) return false;
+  const int index = static_cast<int>(std::count(choices.begin(), choices.begin() + at, '|'));
+  return static_cast<int>(b.uniforms.params[i]) == index;
+}
+
 // The effects the material asks for that its plugin supports and this frame allows.
 void bind_effects(const Scene& scene, const Material& m, const RenderOptions& opt,
                   BoundMaterial& b) {
@@ -352,7 +366,9 @@ void bind_effects(const Scene& scene, const Material& m, const RenderOptions& op
     b.reasons.push_back("self_shadow: off (switched off for this frame)");
   else
     add_effect(b, kEffectSelfShadow, m.self_shadow, "self_shadow");
-  if (b.effects & kEffectSelfShadow) b.reasons.back() += " (rays only where N.L > 0)";
+  if (b.effects & kEffectSelfShadow)
+    b.reasons.back() += self_shadow_by_depth(b) ? " (darkening with depth, no shadow rays)"
+                                                : " (rays only where N.L > 0)";
   add_effect(b, kEffectDepthWrite, m.depth_write, "depth_write");
   add_effect(b, kEffectSilhouette, m.silhouette, "silhouette");
 }

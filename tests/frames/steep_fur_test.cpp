@@ -2,7 +2,7 @@
 // depth_darkening): the poster's fur-and-grass self-shadow darkens a hit at depth t by
 // 1 - strength x t, for each light and for the indirect light, so on a field of constant depth
 // every pixel is the self-shadow-off pixel times exactly that factor; it reads no depth beyond the
-// search's; it blocks a light below the tangent plane as the ray does.
+// search's; --explain says it is a darkening, not rays.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -86,6 +86,21 @@ TEST(SteepDepthShadow, ReadsNoDepthBeyondTheSearch) {
   const uint64_t ray_mode = fetches(steep("ray", 0.5f, true));
   EXPECT_EQ(depth_mode, none);
   EXPECT_GT(ray_mode, none);
+}
+
+TEST(SteepDepthShadow, ExplainSaysDarkeningOrRays) {
+  // --explain names what the self-shadow is: the darkening (shadow=depth, shells) or rays
+  const Scene scene = constant_depth_plane(0.5f);
+  auto explain = [&](const RenderOptions& o) {
+    Result<Plan> plan = make_plan(scene, o);
+    EXPECT_TRUE(plan.ok()) << plan.status().message();
+    return plan.ok() ? plan->explain() : std::string();
+  };
+  EXPECT_NE(explain(steep("depth", 0.5f, true)).find("darkening with depth, no shadow rays"),
+            std::string::npos);
+  EXPECT_NE(explain(steep("ray", 0.5f, true)).find("rays only where N.L > 0"), std::string::npos);
+  RenderOptions shells = test::cpu_options(kW, kH, "shells");
+  EXPECT_NE(explain(shells).find("darkening with depth, no shadow rays"), std::string::npos);
 }
 
 }  // namespace
