@@ -495,6 +495,23 @@ Status plan_environment(const Scene& scene, const RenderOptions& opt, Plan& plan
 
 }  // namespace
 
+// The triangle limit again once the materials are bound: a layered material (shells) draws its
+// instances' triangles once per layer, which the prepare stage would allocate.
+Status check_layered_triangles(const Scene& scene, const Plan& plan) {
+  uint64_t triangles = 0;
+  bool layered = false;
+  for (const Instance& inst : scene.instances) {
+    const int layers = material_layers(plan.materials[inst.material]).layers;
+    layered = layered || layers > 0;
+    triangles +=
+        scene.meshes[inst.mesh].indices.size() / 3 * static_cast<uint64_t>(std::max(layers, 1));
+  }
+  if (!layered || triangles <= kMaxSceneTriangles) return {};
+  return Status::error("scene '" + scene.name + "': " + std::to_string(triangles) +
+                       " triangles to draw with every shell layer, more than the limit of " +
+                       std::to_string(kMaxSceneTriangles) + " (use fewer layers)");
+}
+
 Result<Plan> make_plan(const Scene& scene, const RenderOptions& opt) {
   Plan plan;
   RELIEF_RETURN_IF_ERROR(check_request(scene, opt));
@@ -515,6 +532,7 @@ Result<Plan> make_plan(const Scene& scene, const RenderOptions& opt) {
     if (inst.material < 0 || inst.material >= static_cast<int>(scene.materials.size()) ||
         inst.mesh < 0 || inst.mesh >= static_cast<int>(scene.meshes.size()))
       return Status::error("scene '" + scene.name + "': an instance has no valid mesh or material");
+  RELIEF_RETURN_IF_ERROR(check_layered_triangles(scene, plan));
   plan.shadow = opt.shadow;
   RELIEF_RETURN_IF_ERROR(plan_shadow_passes(scene, opt, plan));
   plan_shadow_variants(scene, plan);

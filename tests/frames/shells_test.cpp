@@ -184,5 +184,23 @@ TEST(Shells, PlannerAlphaTestsLayeredMaterials) {
   EXPECT_EQ(plan->materials[0].uniforms.alpha_cutoff, 0.25f);
 }
 
+TEST(Shells, TheTriangleLimitCountsEveryLayer) {
+  // 33000 triangles are within the scene limit once, not 256 times (8.4 M > 2^23): the planner
+  // refuses before the prepare stage allocates the copies
+  Scene scene = plane_scene();
+  Mesh& mesh = scene.meshes[scene.instances[0].mesh];
+  const std::vector<uint32_t> quad = mesh.indices;
+  while (mesh.indices.size() / 3 < 33000)
+    mesh.indices.insert(mesh.indices.end(), quad.begin(), quad.end());
+  const uint64_t triangles = mesh.indices.size() / 3;
+  ASSERT_LE(triangles * 128, kMaxSceneTriangles);
+  ASSERT_GT(triangles * 256, kMaxSceneTriangles);
+  EXPECT_TRUE(make_plan(scene, shells_options(128)).ok());
+  Result<Plan> plan = make_plan(scene, shells_options(256));
+  ASSERT_FALSE(plan.ok());
+  EXPECT_NE(plan.status().message().find("use fewer layers"), std::string::npos)
+      << plan.status().message();
+}
+
 }  // namespace
 }  // namespace relief
