@@ -130,8 +130,8 @@ inline FragIn<F> load_fragment(const FragmentPacket& p, int lane0) {
 }
 
 template <class F>
-inline void store_out(const ShadeOut<F>& o, const FragmentPacket& p, int lane0, FragmentOutput& out,
-                      WorkCounters& wc) {
+inline void store_out(const ShadeOut<F>& o, const FragmentPacket& p, int lane0,
+                      FragmentOutput& out) {
   store_lanes(&out.color[0][lane0], o.color.x);
   store_lanes(&out.color[1][lane0], o.color.y);
   store_lanes(&out.color[2][lane0], o.color.z);
@@ -144,17 +144,63 @@ inline void store_out(const ShadeOut<F>& o, const FragmentPacket& p, int lane0, 
   store_lanes(&out.aov[kAovOffset[3]][lane0], o.shading_normal.x);
   store_lanes(&out.aov[kAovOffset[3] + 1][lane0], o.shading_normal.y);
   store_lanes(&out.aov[kAovOffset[3] + 2][lane0], o.shading_normal.z);
+  // Discards are rare (MASK materials, silhouettes): the lanes are read one by one only then.
+  // (Reading a lane of a vector in a loop goes through memory, and waits on the store.)
+  if (!any(o.discard)) return;
   for (int i = 0; i < lane_width<F>; ++i) {
     const int ln = lane0 + i;
-    const int q = ln >> 2;
-    if (q >= p.num_quads) break;
-    if (lane(o.discard, i)) out.discard[q] |= uint8_t(1u << (ln & 3));
-    if (!p.lane_covered(ln)) continue;
-    wc.texture_fetches += static_cast<uint64_t>(lane(o.fetches, i));
-    wc.search_steps += static_cast<uint64_t>(lane(o.steps, i));
-    wc.shadow_steps += static_cast<uint64_t>(lane(o.shadow_steps, i));
+    if ((ln >> 2) >= p.num_quads) break;
+    if (lane(o.discard, i)) out.discard[ln >> 2] |= uint8_t(1u << (ln & 3));
   }
 }
+
+// The lanes lane0 .. lane0 + width that the work counters count: covered lanes of the packet's
+// quads (WorkCounters).
+template <class F>
+inline mask_t<F> counted_lanes(const FragmentPacket& p, int lane0) {
+  if constexpr (std::is_same_v<F, float>) {
+    return (lane0 >> 2) < p.num_quads && p.lane_covered(lane0);
+  } else {
+    using I = int_t<F>;
+    constexpr int kW = lane_width<F>;
+    static_assert(kW % kQuadLanes == 0 && kW <= 32);
+    int32_t bits = 0;  // bit i: lane lane0 + i
+    for (int q = 0; q < kW / kQuadLanes; ++q) {
+      const int quad = (lane0 >> 2) + q;
+      if (quad < p.num_quads) bits |= int32_t(p.coverage[quad] & 0xf) << (kQuadLanes * q);
+    }
+    I index;
+    for (int i = 0; i < kW; ++i) set_lane(index, i, i);
+    return ((I(bits) >> index) & 1) == 1;
+  }
+}
+
+// A kernel's work (fetches, search and shadow steps: whole numbers held in float lanes) summed
+// over the counted lanes of a packet, lane-parallel, and added to the counters once a packet.
+template <class F>
+struct WorkLanes {
+  using I = int_t<F>;
+  // User-provided, as ShadeOut's: compiled for this namespace's target.
+  WorkLanes() : fetches(0), steps(0), shadow_steps(0) {}
+  I fetches, steps, shadow_steps;
+  void add(const ShadeOut<F>& o, const mask_t<F>& counted) {
+    fetches = fetches + select(counted, trunc_to_int(o.fetches), I(0));
+    steps = steps + select(counted, trunc_to_int(o.steps), I(0));
+    shadow_steps = shadow_steps + select(counted, trunc_to_int(o.shadow_steps), I(0));
+  }
+  static uint64_t sum(const I& x) {
+    int32_t a[lane_width<F>];
+    std::memcpy(a, &x, sizeof a);
+    uint64_t s = 0;
+    for (int32_t v : a) s += static_cast<uint64_t>(v);
+    return s;
+  }
+  void flush(WorkCounters& wc) const {
+    wc.texture_fetches += sum(fetches);
+    wc.search_steps += sum(steps);
+    wc.shadow_steps += sum(shadow_steps);
+  }
+};
 
 // The material's alphaMode applied to a kernel's output (docs/scene-format.md, "Alpha"): MASK
 // discards the lanes whose alpha is below alpha_cutoff, and MASK and OPAQUE write alpha 1; BLEND
@@ -186,10 +232,14 @@ RELIEF_LANE_FLATTEN void shade_lanes(const ShadeContext& ctx, const FragmentPack
                                      FragmentOutput& out, WorkCounters& wc) {
   static_assert(kPacketLanes % kLanes == 0);
   const int lanes = in.num_quads * kQuadLanes;
+  WorkLanes<FN> work;
   for (int l = 0; l < lanes; l += kLanes) {
     const FragIn<FN> f = load_fragment<FN>(in, l);
-    store_out(resolve_alpha(*ctx.material, Kernel::template shade<FN>(ctx, f)), in, l, out, wc);
+    const ShadeOut<FN> o = resolve_alpha(*ctx.material, Kernel::template shade<FN>(ctx, f));
+    store_out(o, in, l, out);
+    work.add(o, counted_lanes<FN>(in, l));
   }
+  work.flush(wc);
 }
 }  // namespace detail
 
@@ -201,8 +251,12 @@ void shade_packet(const ShadeContext& ctx, const FragmentPacket& in, FragmentOut
   for (int l = 0; l < lanes; ++l) {
     if (!in.coverage[l >> 2]) continue;
     const FragIn<float> f = detail::load_fragment<float>(in, l);
-    detail::store_out(detail::resolve_alpha(*ctx.material, Kernel::template shade<float>(ctx, f)),
-                      in, l, out, wc);
+    const ShadeOut<float> o =
+        detail::resolve_alpha(*ctx.material, Kernel::template shade<float>(ctx, f));
+    detail::store_out(o, in, l, out);
+    detail::WorkLanes<float> work;
+    work.add(o, detail::counted_lanes<float>(in, l));
+    work.flush(wc);
   }
 }
 
