@@ -182,13 +182,23 @@ constexpr int texel_channels(TexFormat f) {
   return f == TexFormat::kRGBA8 ? 4 : (f == TexFormat::kRG8 ? 2 : 1);
 }
 
+// byte / 255 (byte in [0, 255]) without the divider: 1/255 split into a 9-bit head, whose
+// product with an 8-bit integer is exact, and a tail; the one rounding of the sum gives the
+// correctly rounded quotient for all 256 bytes (tests/shaders_cpp/sampling_test.cpp checks
+// every byte). The build never contracts the two products into an FMA (-ffp-contract=off). A
+// 16-lane division is a long, poorly pipelined instruction on the way to every 8-bit read.
+template <class F>
+[[gnu::always_inline]] inline F unorm8_decode(const F& byte) {
+  return byte * F(0x1.01p-8f) + byte * F(0x1.010102p-24f);
+}
+
 // Channel c (0..3) of 8-bit texels packed little-endian in `word`, decoded like texture.cpp.
 template <int kChannels, class F>
 inline F decode8(int_t<F> word, int c, const float* lut, bool srgb) {
   using I = int_t<F>;
   if (c >= kChannels) return F(c == 3 ? 1.0f : 0.0f);
   const I byte = (word >> (8 * c)) & I(0xff);
-  if (!srgb || c == 3) return to_float(byte) / F(255.0f);  // == unorm8_table (tested)
+  if (!srgb || c == 3) return unorm8_decode(to_float(byte));  // == unorm8_table (tested)
   return table_lookup<F>(lut, byte);
 }
 

@@ -27,9 +27,15 @@ Texture random_texture(TexFormat f, int w, int h, ColorSpace cs, uint32_t seed) 
   return t;
 }
 
-TEST(Sampling, Unorm8DecodeByDivisionEqualsTheTable) {
-  for (int i = 0; i < 256; ++i)
-    EXPECT_EQ(float_bits(static_cast<float>(i) / 255.0f), float_bits(unorm8_table()[i])) << i;
+TEST(Sampling, Unorm8DecodeEqualsTheTable) {
+  for (int i = 0; i < 256; ++i) {
+    const float x = static_cast<float>(i);
+    EXPECT_EQ(float_bits(x / 255.0f), float_bits(unorm8_table()[i])) << i;
+    EXPECT_EQ(float_bits(HWY_NAMESPACE::detail::unorm8_decode(x)), float_bits(unorm8_table()[i]))
+        << i;
+    const F8 lanes = HWY_NAMESPACE::detail::unorm8_decode(F8(x));
+    for (int k = 0; k < 8; ++k) EXPECT_EQ(float_bits(lanes[k]), float_bits(unorm8_table()[i])) << i;
+  }
 }
 
 TEST(Sampling, TextureLodMatchesSampleLodBitForBit) {
