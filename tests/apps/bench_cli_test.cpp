@@ -259,11 +259,9 @@ TEST(BenchCli, ReportLoadsInHeadlessChromiumAndShowsThePlot) {
 }
 
 // --backend cpu,gl: the GL series beside CPU, hollow markers at the GLSL twin's time; GL ns in
-// the tables. Skipped where no GL context can be made (`relief info` says so; in the ASan run
-// Mesa's own allocations would read as leaks of the instrumented CLI).
+// the tables. Skipped where the CLI cannot render with GL (cli_gl_missing says why).
 TEST(BenchCli, ReportShowsTheGlSeriesBesideCpu) {
-  if (run("info").out.find("gl: available") == std::string::npos)
-    GTEST_SKIP() << "no GL context here";
+  if (const std::string why = cli_gl_missing(); !why.empty()) GTEST_SKIP() << why;
   const std::string dir = tmp("bench_report_gl");
   std::filesystem::remove_all(dir);
   const CliRun r =

@@ -457,8 +457,7 @@ TEST(FarmCli, BarePluginFileNameIsAPathHere) {
 }
 
 TEST(FarmCli, GlBackendSkipsAndResumesAlike) {
-  const CliRun info = run("info");
-  if (info.out.find("gl: available") == std::string::npos) GTEST_SKIP() << "no GL context here";
+  if (const std::string why = cli_gl_missing(); !why.empty()) GTEST_SKIP() << why;
   const fs::path dir = fresh_test_dir("farm_gl");
   const std::string args = "render plane --backend gl --size 32x24 --frames 0-2 -o " +
                            q(dir / "f%d.png") + " --aov depth=" + q(dir / "d%d.exr");

@@ -91,7 +91,8 @@ void expect_one_line(const CliRun& r, const std::vector<std::string>& needles) {
 }
 
 bool gl_renders(const fs::path& dir) {
-  return relief_in(dir, "render plane --backend gl --size 8x8 -o gl_probe.png").code == 0;
+  return cli_gl_missing().empty() &&
+         relief_in(dir, "render plane --backend gl --size 8x8 -o gl_probe.png").code == 0;
 }
 
 // ---- full disk ----
