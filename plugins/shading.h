@@ -248,16 +248,16 @@ void shade_packet(const ShadeContext& ctx, const FragmentPacket& in, FragmentOut
                   WorkCounters& wc) {
   if (!ctx.frame->scalar_lanes) return detail::shade_lanes<Kernel>(ctx, in, out, wc);
   const int lanes = in.num_quads * kQuadLanes;
+  detail::WorkLanes<float> work;
   for (int l = 0; l < lanes; ++l) {
     if (!in.coverage[l >> 2]) continue;
     const FragIn<float> f = detail::load_fragment<float>(in, l);
     const ShadeOut<float> o =
         detail::resolve_alpha(*ctx.material, Kernel::template shade<float>(ctx, f));
     detail::store_out(o, in, l, out);
-    detail::WorkLanes<float> work;
     work.add(o, detail::counted_lanes<float>(in, l));
-    work.flush(wc);
   }
+  work.flush(wc);
 }
 
 }  // namespace HWY_NAMESPACE
