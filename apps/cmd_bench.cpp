@@ -315,6 +315,7 @@ Status write_bench_outputs(const BenchArgs& a, const sweep::SweepResult& r,
               r.cpu_device.c_str(), opt.width, opt.height, opt.warmup, opt.repeats);
   if (!r.gl_device.empty()) std::printf("gl: %s\n", r.gl_device.c_str());
   std::printf("%s", sweep::format_table(r.rows).c_str());
+  std::printf("%s", sweep::format_appendix_table(r.appendix).c_str());
   for (const std::string& n : r.notes) std::printf("%s\n", n.c_str());
   if (!a.csv.empty()) RELIEF_RETURN_IF_ERROR(write_text_atomic(a.csv, sweep::to_csv(r.rows)));
   if (!a.json.empty()) RELIEF_RETURN_IF_ERROR(write_text_atomic(a.json, sweep::to_json(r, info)));

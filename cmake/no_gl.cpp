@@ -5,6 +5,7 @@
 #include <string>
 #include <vector>
 
+#include "gl/appendix_relief.h"
 #include "gl/context.h"
 #include "gl/gl_backend.h"
 #include "gl/shader.h"
@@ -76,6 +77,24 @@ Result<unsigned> link_program(const std::vector<unsigned>&, const std::string&) 
 Result<unsigned> build_program(const std::string&, const std::string&,
                                const std::vector<std::string>&) {
   return Status::error(kNoGl);
+}
+
+struct AppendixRelief::State {};
+Result<std::unique_ptr<AppendixRelief>> AppendixRelief::create(int) {
+  return Status::error(kNoGl);
+}
+AppendixRelief::~AppendixRelief() = default;
+Status AppendixRelief::prepare(const Scene&, int, int, int, int) {
+  return Status::error(kNoGl);
+}
+Result<double> AppendixRelief::draw() {
+  return Status::error(kNoGl);
+}
+Status AppendixRelief::draw_hits(Image&, Image&) {
+  return Status::error(kNoGl);
+}
+std::string AppendixRelief::device() const {
+  return "none";
 }
 
 }  // namespace gl

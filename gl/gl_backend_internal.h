@@ -35,6 +35,11 @@ inline double ms_since(Clock::time_point t) {
 
 // First pending GL error as a Status (and drains the rest).
 Status gl_check(const char* where);
+// A sampler axis's wrap mode as GL's (GL_REPEAT, GL_CLAMP_TO_EDGE, GL_MIRRORED_REPEAT).
+GLenum wrap_gl(Wrap w);
+// Reads an RGBA colour attachment of `fbo` into `img` (its size), rows flipped so that row 0 is
+// the top; non-finite values read as 0.
+void read_image(GLuint fbo, GLenum attachment, Image& img);
 
 // Uniform locations of one program (-1 where the compiler removed the uniform).
 struct Locations {

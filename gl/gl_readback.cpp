@@ -26,13 +26,13 @@ const float* flipped_row(const std::vector<float>& buf, int y, int w, int h, int
   return &buf[static_cast<size_t>(h - 1 - y) * w * channels];
 }
 
-void copy_color(const std::vector<float>& buf, Framebuffer& fb) {
-  const int w = fb.width, h = fb.height;
+void copy_color(const std::vector<float>& buf, Image& img) {
+  const int w = img.width, h = img.height;
   for (int y = 0; y < h; ++y) {
     const float* row = flipped_row(buf, y, w, h, 4);
     for (int x = 0; x < w; ++x)
-      fb.color.at(x, y) = glm::vec4(finite(row[x * 4]), finite(row[x * 4 + 1]),
-                                    finite(row[x * 4 + 2]), finite(row[x * 4 + 3]));
+      img.at(x, y) = glm::vec4(finite(row[x * 4]), finite(row[x * 4 + 1]), finite(row[x * 4 + 2]),
+                               finite(row[x * 4 + 3]));
   }
 }
 
@@ -61,6 +61,14 @@ void read_depth(Framebuffer& fb) {
 
 }  // namespace
 
+void read_image(GLuint fbo, GLenum attachment, Image& img) {
+  std::vector<float> buf(static_cast<size_t>(img.width) * img.height * 4);
+  glPixelStorei(GL_PACK_ALIGNMENT, 4);
+  glPixelStorei(GL_PACK_ROW_LENGTH, 0);
+  read_rgba(fbo, attachment, img.width, img.height, buf);
+  copy_color(buf, img);
+}
+
 Status GlBackend::read_back(Framebuffer& fb) {
   // Read back, flipping rows: GL's row 0 is the bottom, the Image's the top.
   const int w = fb.width, h = fb.height;
@@ -68,7 +76,7 @@ Status GlBackend::read_back(Framebuffer& fb) {
   glPixelStorei(GL_PACK_ALIGNMENT, 4);
   glPixelStorei(GL_PACK_ROW_LENGTH, 0);
   read_rgba(fbo_, GL_COLOR_ATTACHMENT0, w, h, buf);
-  copy_color(buf, fb);
+  copy_color(buf, fb.color);
   if (fb.aov_mask != 0) {
     for (int a = 0; a < 2; ++a) {
       read_rgba(fbo_, GL_COLOR_ATTACHMENT1 + a, w, h, buf);

@@ -46,18 +46,6 @@ FormatGl format_gl(TexFormat f, ColorSpace cs) {
   return {GL_RGBA8, GL_RGBA, GL_UNSIGNED_BYTE};
 }
 
-GLenum wrap_gl(Wrap w) {
-  switch (w) {
-    case Wrap::kRepeat:
-      return GL_REPEAT;
-    case Wrap::kClamp:
-      return GL_CLAMP_TO_EDGE;
-    case Wrap::kMirror:
-      return GL_MIRRORED_REPEAT;
-  }
-  return GL_REPEAT;
-}
-
 // Deletes (with `del`, given the cache entry) the cached objects whose texture or environment only
 // the cache still holds.
 template <class Map, class Delete>
@@ -215,6 +203,18 @@ void stream_data(GLuint buffer, const std::vector<T>& data) {
 }
 
 }  // namespace
+
+GLenum wrap_gl(Wrap w) {
+  switch (w) {
+    case Wrap::kRepeat:
+      return GL_REPEAT;
+    case Wrap::kClamp:
+      return GL_CLAMP_TO_EDGE;
+    case Wrap::kMirror:
+      return GL_MIRRORED_REPEAT;
+  }
+  return GL_REPEAT;
+}
 
 FrameTransients::~FrameTransients() {
   glDeleteTextures(static_cast<GLsizei>(textures.size()), textures.data());

@@ -433,6 +433,25 @@ void tables_section(std::ostringstream& h, const std::vector<Row>& rows, const R
                       [](const Row& r) { return gl_num(r.gl_ns_median); }});
 }
 
+// The appendix yardstick (sweep.h AppendixRow), when it ran.
+void appendix_section(std::ostringstream& h, const std::vector<AppendixRow>& rows) {
+  if (rows.empty()) return;
+  h << "<h2 id=\"appendix\">Appendix yardstick</h2>\n<p>The relief paper's appendix shader on "
+       "GL ("
+    << kAppendixLinearSteps << "+" << kAppendixBinarySteps
+    << ", textureLod 0, one RGBA8 texture, diffuse only) against the CPU backend's relief with "
+       "the same steps at level 0, no self-shadow and no depth write, on the same view. gl / "
+       "cpu: how many times faster the CPU is; same hit: the pixels whose two hits lie within "
+       "one texel.</p>\n<table class=\"meta\"><thead><tr><th class=\"l\">field</th><th>angle"
+       "</th><th>cpu ns/frag</th><th>appendix ns/frag</th><th>gl / cpu</th><th>same hit</th>"
+       "</tr></thead><tbody>\n";
+  for (const AppendixRow& r : rows)
+    h << "<tr><td class=\"l\">" << html_escape(r.field) << "</td><td>" << num(r.angle)
+      << "</td><td>" << num(r.cpu_ns_median) << "</td><td>" << gl_num(r.gl_ns_median) << "</td><td>"
+      << gl_num(r.speedup) << "</td><td>" << num(r.same_hit_frac) << "</td></tr>\n";
+  h << "</tbody></table>\n";
+}
+
 // One cell of an image strip: row `r`'s kept colour image and heat map, with its errors.
 Result<std::string> strip_cell(const Row& r, const RowImages& im, const std::string& setting,
                                double angle, const std::string& dir) {
@@ -622,6 +641,7 @@ Status write_report(const std::string& dir, const SweepResult& result, const Run
   build_section(h, result, info);
   plots_section(h, result.rows, index);
   tables_section(h, result.rows, index);
+  appendix_section(h, result.appendix);
   if (Status s = images_section(h, result, index, dir); !s.ok()) return s;
   rows_section(h, result.rows);
   script_section(h);

@@ -7,8 +7,10 @@
 #include <cstdlib>
 #include <memory>
 #include <mutex>
+#include <set>
 #include <string>
 
+#include "gl/appendix_relief.h"
 #include "gl/gl_backend.h"
 #include "plugins/registry.h"
 #include "render/compare.h"
@@ -83,6 +85,30 @@ double median(std::vector<double> v) {
   std::sort(v.begin(), v.end());
   const size_t n = v.size();
   return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+void set_times(const std::vector<double>& ns, double& med, double& lo, double& hi) {
+  med = median(ns);
+  lo = ns.empty() ? 0.0 : *std::min_element(ns.begin(), ns.end());
+  hi = ns.empty() ? 0.0 : *std::max_element(ns.begin(), ns.end());
+}
+
+// Of the pixels both cover (CPU depth > 0, GL hit alpha > 0), the fraction whose hit uv lie within
+// one texel of a w x h map of each other (uv compared modulo the map's repeat).
+double same_hit_fraction(const Framebuffer& cpu, const Image& gl_hits, int w, int h) {
+  long both = 0, same = 0;
+  for (int y = 0; y < cpu.height; ++y)
+    for (int x = 0; x < cpu.width; ++x) {
+      const glm::vec4& g = gl_hits.at(x, y);
+      if (!(cpu.depth.at(x, y) > 0.0f) || !(g.w > 0.0f)) continue;
+      const float* a = cpu.aov_at(x, y);
+      double du = a[kAovOffset[0]] - g.x, dv = a[kAovOffset[0] + 1] - g.y;
+      du -= std::round(du);
+      dv -= std::round(dv);
+      ++both;
+      same += std::hypot(du * w, dv * h) <= 1.0;
+    }
+  return both ? static_cast<double>(same) / static_cast<double>(both) : 0.0;
 }
 
 float luminance(const glm::vec4& c) {
@@ -230,6 +256,94 @@ class Runner {
     return ns;
   }
 
+  // The appendix yardstick of one view (sweep.h AppendixRow).
+  AppendixRow appendix(const Scene& scene, const Field& field, double angle) {
+    AppendixRow row;
+    row.field = field.name;
+    row.angle = angle;
+    Scene lean = scene;
+    for (Material& m : lean.materials) {
+      m.self_shadow = false;
+      m.depth_write = false;
+    }
+    const Setting s{"relief",
+                    {{"steps", std::to_string(kAppendixLinearSteps)},
+                     {"min_steps", std::to_string(kAppendixLinearSteps)},
+                     {"binary_steps", std::to_string(kAppendixBinarySteps)},
+                     {"lod", "zero"}},
+                    "relief lean",
+                    kAppendixLinearSteps};
+    RenderOptions ro = render_options(s, false);
+    ro.self_shadow = false;
+    if (!appendix_gl_ && appendix_error_.empty()) {
+      if (opt_.threads > 0) setenv("LP_NUM_THREADS", std::to_string(opt_.threads).c_str(), 0);
+      Result<std::unique_ptr<gl::AppendixRelief>> a = gl::AppendixRelief::create();
+      if (a.ok())
+        appendix_gl_ = std::move(a).value();
+      else
+        appendix_error_ = "no GL context: " + a.status().message();
+    }
+    Status prepared = appendix_gl_
+                          ? appendix_gl_->prepare(lean, opt_.width, opt_.height,
+                                                  kAppendixLinearSteps, kAppendixBinarySteps)
+                          : Status::error(appendix_error_);
+    // the driver compiles at the first draw (llvmpipe's JIT), which the GL backend's frames
+    // report apart from the pass (compile_ms): an untimed draw whatever the warm-up count
+    if (prepared.ok())
+      if (Result<double> first = appendix_gl_->draw(); !first.ok()) prepared = first.status();
+    if (!prepared.ok()) row.note = prepared.message();
+    Result<Plan> plan = cpu_.plan(lean, ro);
+    if (!plan.ok()) {
+      row.note = plan.status().message();
+      return row;
+    }
+    // warm-up frames of both, then the timed pairs, one side after the other
+    std::vector<double> cpu_ms, gl_ms;
+    Framebuffer last;
+    for (int i = 0; i < opt_.warmup + opt_.repeats; ++i) {
+      Result<RenderResult> r = cpu_.execute(lean, *plan);
+      if (!r.ok()) {
+        row.note = r.status().message();
+        return row;
+      }
+      const PassStats* p = main_pass(*r);
+      if (i >= opt_.warmup && p) cpu_ms.push_back(p->ms);
+      if (i + 1 == opt_.warmup + opt_.repeats)
+        last = std::move(r->framebuffer);
+      else
+        cpu_.recycle(std::move(r).value());
+      if (!prepared.ok()) continue;
+      Result<double> g = appendix_gl_->draw();
+      if (!g.ok()) {
+        row.note = g.status().message();
+        prepared = g.status();
+        continue;
+      }
+      if (i >= opt_.warmup) gl_ms.push_back(*g);
+    }
+    row.fragments = static_cast<long>(std::count_if(
+        last.depth.values.begin(), last.depth.values.end(), [](float d) { return d > 0.0f; }));
+    if (row.fragments == 0) {
+      row.note = "no pixel covered";
+      return row;
+    }
+    const double per = 1e6 / static_cast<double>(row.fragments);
+    for (double& t : cpu_ms) t *= per;
+    set_times(cpu_ms, row.cpu_ns_median, row.cpu_ns_min, row.cpu_ns_max);
+    if (!prepared.ok() || gl_ms.empty()) return row;
+    for (double& t : gl_ms) t *= per;
+    set_times(gl_ms, row.gl_ns_median, row.gl_ns_min, row.gl_ns_max);
+    row.speedup = row.cpu_ns_median > 0.0 ? row.gl_ns_median / row.cpu_ns_median : -1.0;
+    // the hits of both searches
+    ro.aovs = aov_bit(Aov::kHitUv);
+    Result<RenderResult> with_hits = render(cpu_, lean, ro);
+    Image color, hits;
+    if (!with_hits.ok() || !appendix_gl_->draw_hits(color, hits).ok()) return row;
+    row.same_hit_frac = same_hit_fraction(with_hits->framebuffer, hits, field.depth().width(),
+                                          field.depth().height());
+    return row;
+  }
+
   const std::string& cpu_device() const { return cpu_device_; }
   const std::string& gl_device() const { return gl_device_; }
 
@@ -237,7 +351,8 @@ class Runner {
   Options opt_;
   Renderer cpu_;
   std::unique_ptr<Renderer> gl_;
-  std::string gl_error_, cpu_device_, gl_device_;
+  std::unique_ptr<gl::AppendixRelief> appendix_gl_;
+  std::string gl_error_, appendix_error_, cpu_device_, gl_device_;
 };
 
 // The view's constants the accuracy needs: the level-0 field, the ray and light steps, the
@@ -371,12 +486,6 @@ void work_stats(const Measured& m, Row& row) {
   row.steps_p99 = percentile99(s);
 }
 
-void set_times(const std::vector<double>& ns, double& med, double& lo, double& hi) {
-  med = median(ns);
-  lo = ns.empty() ? 0.0 : *std::min_element(ns.begin(), ns.end());
-  hi = ns.empty() ? 0.0 : *std::max_element(ns.begin(), ns.end());
-}
-
 }  // namespace
 
 Result<SweepResult> run_sweep(const std::vector<Field>& fields,
@@ -390,8 +499,11 @@ Result<SweepResult> run_sweep(const std::vector<Field>& fields,
   SweepResult out;
   Runner runner(options);
   const Setting exact_setting{"exact", {}, "exact", 0};
+  const bool appendix = options.gl && options.appendix &&
+                        std::any_of(settings.begin(), settings.end(),
+                                    [](const Setting& s) { return s.technique == "relief"; });
   const int total = static_cast<int>(fields.size() * options.angles.size() *
-                                     (options.lods.size() * settings.size() + 1));
+                                     (options.lods.size() * settings.size() + 1 + appendix));
   int done = 0;
   auto tick = [&](const std::string& what) {
     ++done;
@@ -451,6 +563,10 @@ Result<SweepResult> run_sweep(const std::vector<Field>& fields,
           tick(what);
         }
       }
+      if (appendix) {
+        out.appendix.push_back(runner.appendix(scene, field, angle));
+        tick(view + ": appendix yardstick");
+      }
     }
   }
   out.cpu_device = runner.cpu_device();
@@ -460,6 +576,11 @@ Result<SweepResult> run_sweep(const std::vector<Field>& fields,
     for (const Row& r : out.rows)
       if (!r.gl_note.empty()) skipped[r.technique] = r.gl_note;
     for (const auto& [t, why] : skipped) out.notes.push_back("gl skipped " + t + ": " + why);
+    std::set<std::string> appendix_notes;
+    for (const AppendixRow& a : out.appendix)
+      if (!a.note.empty()) appendix_notes.insert(a.note);
+    for (const std::string& n : appendix_notes)
+      out.notes.push_back("appendix yardstick on gl skipped: " + n);
   }
   return out;
 }

@@ -148,6 +148,9 @@ struct Options {
   // Self-shadow rays on (the fields' materials ask for them). Off, the fetches are the search's
   // plus the shading's, and no self-shadow disagreement is measured (shadow_compared 0).
   bool self_shadow = true;
+  // With `gl` and `relief` among the settings: the appendix yardstick at every field and angle
+  // (AppendixRow).
+  bool appendix = true;
   // Called after each row (and each reference): rows done, rows in all, what was just done.
   std::function<void(int, int, const std::string&)> progress;
 };
@@ -172,6 +175,31 @@ struct Row {
   double shadow_err = 0, shadow_ray_err = 0;
 };
 
+// The second yardstick (issue 26; docs/accuracy.md, "The appendix yardstick"): the relief paper's
+// own appendix shader on GL (gl/appendix_relief.h: kAppendixLinearSteps - 1 linear samples and
+// kAppendixBinarySteps halvings, every one taken; textureLod 0; one RGBA8 texture; diffuse only)
+// against the CPU backend's `relief` with the same effects off (no self-shadow, no depth write, no
+// shadow maps), the same steps (steps = min_steps = 10, binary_steps = 5), the search at level 0
+// (lod=zero), the same texture (the field's depth and normal maps) and the same view, one per
+// field and view angle (level 0 rows). CPU and GL frames alternate: warm-up frames of both, then
+// `repeats` pairs. Its ns per fragment divide each side's frame time (the CPU's main pass, GL's
+// clear + draw + glFinish) by the CPU's covered pixels.
+inline constexpr int kAppendixLinearSteps = 10;
+inline constexpr int kAppendixBinarySteps = 5;
+struct AppendixRow {
+  std::string field;
+  double angle = 0.0;
+  long fragments = 0;
+  double cpu_ns_median = 0, cpu_ns_min = 0, cpu_ns_max = 0;
+  // -1 when GL did not run; note says why
+  double gl_ns_median = -1, gl_ns_min = -1, gl_ns_max = -1;
+  double speedup = -1;  // gl / cpu of the medians: how many times faster the CPU backend is
+  // pixels both cover whose two hits lie within one texel (the searches agree: the comparison is
+  // like for like), of the pixels both cover
+  double same_hit_frac = 0;
+  std::string note;
+};
+
 // Images of one row for the report: the shaded colour and its heat map against exact (both at
 // most Options::thumbnail wide).
 struct RowImages {
@@ -181,7 +209,8 @@ struct RowImages {
 
 struct SweepResult {
   std::vector<Row> rows;
-  std::vector<RowImages> images;  // with Options::keep_images
+  std::vector<RowImages> images;      // with Options::keep_images
+  std::vector<AppendixRow> appendix;  // the appendix yardstick (Options::appendix)
   std::string cpu_device, gl_device;
   std::vector<std::string> notes;  // techniques skipped on gl, and why
 };
@@ -208,6 +237,8 @@ struct RunInfo {
 std::string to_json(const SweepResult& result, const RunInfo& info);
 // A fixed-width table for the terminal (GL columns when any row ran on gl).
 std::string format_table(const std::vector<Row>& rows);
+// The appendix yardstick's rows as a terminal table (empty without rows).
+std::string format_appendix_table(const std::vector<AppendixRow>& rows);
 // "cpu model, N cores, load average a b c" from /proc.
 std::string machine_description();
 

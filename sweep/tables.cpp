@@ -136,6 +136,22 @@ std::string to_json(const SweepResult& result, const RunInfo& info) {
     }
     j["rows"].push_back(o);
   }
+  j["appendix"] = nlohmann::json::array();
+  for (const AppendixRow& a : result.appendix)
+    j["appendix"].push_back({{"field", a.field},
+                             {"angle_deg", a.angle},
+                             {"linear_steps", kAppendixLinearSteps},
+                             {"binary_steps", kAppendixBinarySteps},
+                             {"fragments", a.fragments},
+                             {"cpu_ns_per_fragment", a.cpu_ns_median},
+                             {"cpu_ns_min", a.cpu_ns_min},
+                             {"cpu_ns_max", a.cpu_ns_max},
+                             {"gl_ns_per_fragment", a.gl_ns_median},
+                             {"gl_ns_min", a.gl_ns_min},
+                             {"gl_ns_max", a.gl_ns_max},
+                             {"speedup", a.speedup},
+                             {"same_hit_frac", a.same_hit_frac},
+                             {"note", a.note}});
   j["notes"] = result.notes;
   return j.dump(1) + "\n";
 }
@@ -183,6 +199,39 @@ std::string format_table(const std::vector<Row>& rows) {
       }
     }
     o << "\n";
+  }
+  return o.str();
+}
+
+std::string format_appendix_table(const std::vector<AppendixRow>& rows) {
+  if (rows.empty()) return "";
+  std::ostringstream o;
+  char buf[256];
+  int fw = 5;
+  for (const AppendixRow& r : rows) fw = std::max(fw, static_cast<int>(r.field.size()));
+  std::snprintf(buf, sizeof buf,
+                "appendix yardstick: the relief paper's appendix shader on gl (%d+%d, textureLod "
+                "0, diffuse only) against cpu relief %d+%d lod=zero, no self-shadow, no depth "
+                "write\n",
+                kAppendixLinearSteps, kAppendixBinarySteps, kAppendixLinearSteps,
+                kAppendixBinarySteps);
+  o << buf;
+  std::snprintf(buf, sizeof buf, "%-*s %5s %8s %15s %11s %15s %8s %9s\n", fw, "field", "angle",
+                "cpu ns", "(min-max)", "appendix ns", "(min-max)", "gl/cpu", "same hit");
+  o << buf;
+  for (const AppendixRow& r : rows) {
+    char cr[64], gr[64] = "";
+    std::snprintf(cr, sizeof cr, "(%.0f-%.0f)", r.cpu_ns_min, r.cpu_ns_max);
+    if (r.gl_ns_median >= 0) {
+      std::snprintf(gr, sizeof gr, "(%.0f-%.0f)", r.gl_ns_min, r.gl_ns_max);
+      std::snprintf(buf, sizeof buf, "%-*s %5.0f %8.1f %15s %11.1f %15s %8.2f %9.4f\n", fw,
+                    r.field.c_str(), r.angle, r.cpu_ns_median, cr, r.gl_ns_median, gr, r.speedup,
+                    r.same_hit_frac);
+    } else {
+      std::snprintf(buf, sizeof buf, "%-*s %5.0f %8.1f %15s %11s\n", fw, r.field.c_str(), r.angle,
+                    r.cpu_ns_median, cr, "skipped");
+    }
+    o << buf;
   }
   return o.str();
 }

@@ -270,7 +270,11 @@ TEST(BenchCli, ReportShowsTheGlSeriesBesideCpu) {
           dir);
   ASSERT_EQ(r.code, 0) << r.out;
   if (r.out.find("no GL context") != std::string::npos) GTEST_SKIP() << r.out;
+  // the second yardstick beside the rows: the paper's appendix shader, one row per view
+  EXPECT_NE(r.out.find("appendix yardstick"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("\npattern    45"), std::string::npos) << r.out;
   const std::string html = slurp(dir + "/index.html");
+  EXPECT_NE(html.find("<h2 id=\"appendix\">Appendix yardstick</h2>"), std::string::npos);
   size_t hollow = 0;
   for (size_t p = html.find("class=\"gl-point\""); p != std::string::npos;
        p = html.find("class=\"gl-point\"", p + 1))
