@@ -57,6 +57,7 @@ struct RenderArgs {
   bool no_shadows = false;
   bool no_self_shadow = false;
   ShadowSettings shadow;
+  std::string shadow_size = "light";
   std::string frames;  // LIST (apps/frames.h)
   std::string shard;   // I/N
   bool skip_existing = false;
@@ -417,6 +418,9 @@ Status parse_frame_options(const RenderArgs& a, RenderJob& job) {
   opt.shadows = !a.no_shadows;
   opt.self_shadow = !a.no_self_shadow;
   opt.shadow = a.shadow;
+  if (a.shadow_size != "view" && a.shadow_size != "light")
+    return Status::usage("--shadow-size: expected view or light, got '" + a.shadow_size + "'");
+  opt.shadow_size = a.shadow_size == "view" ? ShadowSize::kView : ShadowSize::kLight;
   RELIEF_RETURN_IF_ERROR(parse_params(a.params, opt));
   RELIEF_RETURN_IF_ERROR(apply_environment_options(a.env, opt));
   opt.height_ao_rays = a.height_ao;
@@ -853,6 +857,11 @@ void register_render(CLI::App& app, Action& action) {
       ->capture_default_str();
   sub->add_option("--shadow-pcf", a->shadow.pcf_radius,
                   "Shadow-map PCF radius r: (2r+2)^2 bilinear taps")
+      ->capture_default_str();
+  sub->add_option("--shadow-size", a->shadow_size,
+                  "Shadow-map texels per side: light (the light's shadow_resolution) or view (at "
+                  "most that, no more than a texel per pixel of this view: faster small frames, "
+                  "coarser shadow detail)")
       ->capture_default_str();
   sub->add_option("--frames", a->frames,
                   "Frames: N, A-B, A-B:STEP, comma-separated (1,5,10-20,30-90:3): the scene's "

@@ -7,6 +7,7 @@
 #include <utility>
 
 #include <glm/geometric.hpp>
+#include <glm/matrix.hpp>
 #include <glm/trigonometric.hpp>
 
 #include "bake/environment_bake.h"
@@ -66,7 +67,7 @@ Status check_shadow_settings(const ShadowSettings& s) {
 // Who casts and who visibly receives, over the scene's instances.
 struct ShadowParticipants {
   Bounds casters, receivers;  // receivers: clipped to the camera's view box
-  std::vector<int> caster_instances;
+  std::vector<int> caster_instances, receiver_instances;  // receivers: the visible ones
   int relief_casters = 0;  // casters whose plugin runs its intersection from the light
   int visible = 0, visible_receivers = 0;
 };
@@ -87,16 +88,39 @@ ShadowParticipants find_participants(const Scene& scene, const Plan& plan) {
     ++p.visible;
     if (m.receives_shadow && (plugin.supported_effects & kEffectReceiveShadow)) {
       p.receivers.add(clip_to_view(b, plan.frame.view_proj));
+      p.receiver_instances.push_back(static_cast<int>(i));
       ++p.visible_receivers;
     }
   }
   return p;
 }
 
+// `fitted` (the light's pass at its shadow_resolution) at the side the view resolves
+// (ShadowSize::kView, render/shadow_map.h): fitted again at that side, and once more if the
+// smaller map's wider filter margin asks for a texel more.
+ShadowPassSetup view_sized_shadow_pass(const Light& l, const ShadowParticipants& who,
+                                       const RenderOptions& opt, const FrameUniforms& frame,
+                                       const std::vector<std::vector<glm::vec3>>& polygons,
+                                       const ShadowPassSetup& fitted) {
+  const glm::mat4 proj = frame.view_proj * glm::inverse(frame.view);
+  ShadowPassSetup s = fitted;
+  int side = view_shadow_size(s, polygons, frame.view, proj, opt.height, l.shadow_resolution);
+  for (int round = 0; round < 2 && side != s.size; ++round) {
+    Light sized = l;
+    sized.shadow_resolution = side;
+    s = fit_shadow_pass(sized, who.receivers, who.casters, opt.shadow);
+    side = std::max(
+        side, view_shadow_size(s, polygons, frame.view, proj, opt.height, l.shadow_resolution));
+  }
+  return s;
+}
+
 // A shadow pass per light that casts shadows, when something casts and something visible
 // receives (DESIGN.md); the others are listed in plan.skipped with the reason.
 Status plan_shadow_passes(const Scene& scene, const RenderOptions& opt, Plan& plan) {
   const ShadowParticipants who = find_participants(scene, plan);
+  // the visible receivers' triangles clipped to the view, for ShadowSize::kView
+  std::vector<std::vector<glm::vec3>> polygons;
   for (size_t li = 0; li < scene.lights.size(); ++li) {
     const Light& l = scene.lights[li];
     const std::string head = "light '" + l.name + "' (" + light_type_name(l.type) + "): ";
@@ -123,10 +147,19 @@ Status plan_shadow_passes(const Scene& scene, const RenderOptions& opt, Plan& pl
     pass.light = static_cast<int>(li);
     pass.instances = who.caster_instances;
     pass.shadow = fit_shadow_pass(l, who.receivers, who.casters, opt.shadow);
+    std::string sized;
+    if (opt.shadow_size == ShadowSize::kView) {
+      if (polygons.empty())
+        polygons = visible_receiver_polygons(scene, who.receiver_instances, plan.frame.view_proj);
+      pass.shadow = view_sized_shadow_pass(l, who, opt, plan.frame, polygons, pass.shadow);
+      if (pass.shadow.size < l.shadow_resolution)
+        sized = " (the light asks for " + std::to_string(l.shadow_resolution) +
+                "; a texel per pixel of this view is " + std::to_string(pass.shadow.size) + ")";
+    }
     pass.reason = head + "casts shadows; " + std::to_string(who.caster_instances.size()) +
                   " caster(s), " + std::to_string(who.relief_casters) +
                   " with relief depth from the light; " + std::to_string(who.visible_receivers) +
-                  " visible receiver(s); " + describe_shadow_pass(pass.shadow);
+                  " visible receiver(s); " + describe_shadow_pass(pass.shadow) + sized;
     plan.passes.push_back(std::move(pass));
   }
   return {};

@@ -38,6 +38,9 @@ struct RenderOptions {
   bool shadows = true;
   bool self_shadow = true;
   ShadowSettings shadow;
+  // How each shadow map's resolution is chosen (render/shadow_map.h ShadowSize): kLight, the
+  // light's shadow_resolution; kView, at most that and no more than a texel per pixel of the view.
+  ShadowSize shadow_size = ShadowSize::kLight;
   // Image-based light (docs/environment.md): the baked maps of an environment (`--env`; null:
   // none), named for --explain, turned and scaled by env_view. Without one, a scene that has no
   // lights is lit by the built-in studio environment when `studio_environment` is set (a glTF

@@ -155,6 +155,107 @@ ShadowPassSetup fit_shadow_pass(const Light& light, const Bounds& receivers, con
   return s;
 }
 
+namespace {
+
+// The part of the convex polygon `in` (world points) inside the clip volume of `m` (world ->
+// clip): -w <= x <= w, -w <= y <= w and, with `depth`, 0 <= z <= w (reversed-Z), else only w > 0
+// (in front). Each clip coordinate is affine in the world point, so cutting edges in world space
+// puts the new corners exactly on the planes (Sutherland and Hodgman 1974).
+void clip_polygon(const std::vector<glm::vec3>& in, const glm::mat4& m, bool depth,
+                  std::vector<glm::vec3>& out) {
+  static constexpr float kFront = 1e-6f;  // w > 0: points at the eye are cut away
+  out = in;
+  std::vector<glm::vec3> next;
+  std::vector<float> dist;
+  for (int plane = 0; plane < (depth ? 6 : 5) && !out.empty(); ++plane) {
+    dist.clear();
+    for (const glm::vec3& p : out) {
+      const glm::vec4 c = m * glm::vec4(p, 1.0f);
+      switch (plane) {
+        case 0:
+          dist.push_back(c.w - kFront);
+          break;
+        case 1:
+          dist.push_back(c.w + c.x);
+          break;
+        case 2:
+          dist.push_back(c.w - c.x);
+          break;
+        case 3:
+          dist.push_back(c.w + c.y);
+          break;
+        case 4:
+          dist.push_back(c.w - c.y);
+          break;
+        default:
+          dist.push_back(std::min(c.z, c.w - c.z));
+          break;  // 0 <= z <= w, one cut each
+      }
+    }
+    next.clear();
+    for (size_t i = 0; i < out.size(); ++i) {
+      const size_t j = (i + 1) % out.size();
+      const float a = dist[i], b = dist[j];
+      if (a >= 0.0f) next.push_back(out[i]);
+      if ((a >= 0.0f) != (b >= 0.0f)) next.push_back(out[i] + (out[j] - out[i]) * (a / (a - b)));
+    }
+    out.swap(next);
+  }
+}
+
+}  // namespace
+
+std::vector<std::vector<glm::vec3>> visible_receiver_polygons(const Scene& scene,
+                                                              const std::vector<int>& instances,
+                                                              const glm::mat4& view_proj,
+                                                              size_t budget) {
+  size_t triangles = 0;
+  for (int i : instances) triangles += scene.meshes[scene.instances[i].mesh].indices.size() / 3;
+  const size_t stride = std::max<size_t>(1, (triangles + budget - 1) / std::max<size_t>(budget, 1));
+  std::vector<std::vector<glm::vec3>> out;
+  std::vector<glm::vec3> tri(3), clipped;
+  size_t t_index = 0;
+  for (int i : instances) {
+    const Instance& inst = scene.instances[i];
+    const Mesh& m = scene.meshes[inst.mesh];
+    for (size_t t = 0; t + 2 < m.indices.size(); t += 3, ++t_index) {
+      if (t_index % stride != 0) continue;
+      for (int k = 0; k < 3; ++k)
+        tri[k] = glm::vec3(inst.transform * glm::vec4(m.positions[m.indices[t + k]], 1.0f));
+      // the depth planes too: the near plane bounds how close a receiver point can be
+      clip_polygon(tri, view_proj, true, clipped);
+      if (clipped.size() >= 3) out.push_back(clipped);
+    }
+  }
+  return out;
+}
+
+int view_shadow_size(const ShadowPassSetup& setup,
+                     const std::vector<std::vector<glm::vec3>>& polygons, const glm::mat4& view,
+                     const glm::mat4& proj, int height, int max_side) {
+  const glm::mat4 view_proj = proj * view;
+  const double pixel_scale = 2.0 / (static_cast<double>(height) * std::fabs(proj[1][1]));
+  double need = 0.0;  // the largest side a corner asks for
+  bool seen = false;
+  std::vector<glm::vec3> in_map;
+  for (const std::vector<glm::vec3>& poly : polygons)
+    for (int f = 0; f < setup.faces; ++f) {
+      // the part each face's map covers: texel / pixel is a ratio of two affine functions of
+      // the point (distance along the face's axis, the view's clip w), largest at a corner
+      clip_polygon(poly, setup.proj[f] * setup.view[f], false, in_map);
+      for (const glm::vec3& p : in_map) {
+        const double along = -(setup.view[f] * glm::vec4(p, 1.0f)).z;
+        const double texel = setup.orthographic ? setup.texel : setup.texel * std::max(along, 0.0);
+        const double pixel = pixel_scale * (view_proj * glm::vec4(p, 1.0f)).w;
+        seen = true;
+        if (!(pixel > 0.0)) return max_side;  // a point at the eye: the most the light allows
+        need = std::max(need, setup.size * texel / pixel);
+      }
+    }
+  if (!seen || !(need < static_cast<double>(max_side))) return max_side;
+  return std::clamp(static_cast<int>(std::ceil(need)), 16, max_side);
+}
+
 FrameUniforms shadow_face_frame(const ShadowPassSetup& s, int face) {
   FrameUniforms f;
   f.view = s.view[face];

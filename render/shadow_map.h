@@ -62,6 +62,37 @@ struct ShadowPassSetup {
 ShadowPassSetup fit_shadow_pass(const Light& light, const Bounds& receivers, const Bounds& casters,
                                 const ShadowSettings& settings);
 
+// How a shadow map's resolution is chosen (RenderOptions::shadow_size, `--shadow-size`).
+//   kLight (the default): the light's shadow_resolution, whatever the view.
+//   kView: the light's shadow_resolution is the most; fewer texels per side when the view cannot
+//     resolve them: the smallest size at which one texel, at every point of the visible receivers'
+//     polygons, covers no more world than one pixel of the view there (view_shadow_size). Not the
+//     default: the depth bias and the PCF footprint are counted in texels, so a coarser map also
+//     loses shadow detail finer than them, such as the shadows relief casters write into their
+//     grooves (docs/performance.md, "A shadow map the view needs").
+enum class ShadowSize { kLight, kView };
+
+// The visible receivers' surfaces: each triangle of the instances in `instances`, clipped to the
+// view volume of `view_proj` (reversed-Z), as a convex polygon in world space (the empty ones
+// left out). Past `budget` triangles they are strided (every k-th), and the result samples the
+// surface instead of covering it.
+std::vector<std::vector<glm::vec3>> visible_receiver_polygons(const Scene& scene,
+                                                              const std::vector<int>& instances,
+                                                              const glm::mat4& view_proj,
+                                                              size_t budget = 65536);
+
+// The side of a shadow map framed as `setup` at which a texel covers, at each point of
+// `polygons` the map sees, at most the world size of one pixel of a view `height` pixels high
+// with projection `proj` (reversed-Z; orthographic or perspective) and view matrix `view`: a
+// texel is setup.texel * setup.size / side at distance 1 from a perspective light (times the
+// distance along the face's axis), everywhere for an orthographic one; a pixel is 2 w / (height *
+// |proj[1][1]|) with w the point's clip w. Both are affine in the point, so their ratio is
+// largest at a corner of each polygon's part inside a face's map, and the corners are where it
+// is evaluated. Clamped to 16..max_side; max_side when no point is seen or one lies at the eye.
+int view_shadow_size(const ShadowPassSetup& setup,
+                     const std::vector<std::vector<glm::vec3>>& polygons, const glm::mat4& view,
+                     const glm::mat4& proj, int height, int max_side);
+
 // The uniforms of one face's depth pass: the light as the eye, no lights, no AOVs.
 FrameUniforms shadow_face_frame(const ShadowPassSetup& setup, int face);
 
