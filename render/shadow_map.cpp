@@ -159,39 +159,22 @@ namespace {
 
 // The part of the convex polygon `in` (world points) inside the clip volume of `m` (world ->
 // clip): -w <= x <= w, -w <= y <= w and, with `depth`, 0 <= z <= w (reversed-Z), else only w > 0
-// (in front). Each clip coordinate is affine in the world point, so cutting edges in world space
-// puts the new corners exactly on the planes (Sutherland and Hodgman 1974).
+// (in front). Each bound is a half-space whose distance is affine in the world point, so cutting
+// edges in world space puts the new corners exactly on the planes (Sutherland and Hodgman 1974).
 void clip_polygon(const std::vector<glm::vec3>& in, const glm::mat4& m, bool depth,
                   std::vector<glm::vec3>& out) {
   static constexpr float kFront = 1e-6f;  // w > 0: points at the eye are cut away
+  // clip-space planes (a, b, c, d): a x + b y + c z + d w >= e
+  static constexpr float kPlanes[7][4] = {{0, 0, 0, 1},  {1, 0, 0, 1}, {-1, 0, 0, 1}, {0, 1, 0, 1},
+                                          {0, -1, 0, 1}, {0, 0, 1, 0}, {0, 0, -1, 1}};
   out = in;
   std::vector<glm::vec3> next;
   std::vector<float> dist;
-  for (int plane = 0; plane < (depth ? 6 : 5) && !out.empty(); ++plane) {
+  for (int plane = 0; plane < (depth ? 7 : 5) && !out.empty(); ++plane) {
+    const glm::vec4 n(kPlanes[plane][0], kPlanes[plane][1], kPlanes[plane][2], kPlanes[plane][3]);
+    const float e = plane == 0 ? kFront : 0.0f;
     dist.clear();
-    for (const glm::vec3& p : out) {
-      const glm::vec4 c = m * glm::vec4(p, 1.0f);
-      switch (plane) {
-        case 0:
-          dist.push_back(c.w - kFront);
-          break;
-        case 1:
-          dist.push_back(c.w + c.x);
-          break;
-        case 2:
-          dist.push_back(c.w - c.x);
-          break;
-        case 3:
-          dist.push_back(c.w + c.y);
-          break;
-        case 4:
-          dist.push_back(c.w - c.y);
-          break;
-        default:
-          dist.push_back(std::min(c.z, c.w - c.z));
-          break;  // 0 <= z <= w, one cut each
-      }
-    }
+    for (const glm::vec3& p : out) dist.push_back(glm::dot(n, m * glm::vec4(p, 1.0f)) - e);
     next.clear();
     for (size_t i = 0; i < out.size(); ++i) {
       const size_t j = (i + 1) % out.size();

@@ -139,6 +139,41 @@ TEST(ShadowSize, ViewSizedRoomShadesFewerShadowFragmentsForNearlyTheSameImage) {
   EXPECT_LT(mean, 0.02);
 }
 
+// The clipped polygons hold what the view sees of a triangle and nothing else: one reaching from
+// behind the camera to past its far plane keeps its middle, every corner inside the clip volume.
+TEST(ShadowSize, VisibleReceiverPolygonsKeepWhatTheViewSeesOfATriangle) {
+  Scene s;
+  Mesh m;
+  m.positions = {{-0.5f, -0.2f, 5.0f}, {0.5f, -0.2f, 5.0f}, {0.0f, -0.2f, -500.0f}};
+  m.indices = {0, 1, 2};
+  s.meshes.push_back(m);
+  s.instances.push_back({0, 0, glm::mat4(1.0f)});
+  Camera cam;  // at z = 3 looking down -z, far plane at 100
+  cam.znear = 0.1f;
+  cam.zfar = 100.0f;
+  const glm::mat4 vp = cam.projection(4.0f / 3.0f) * cam.view();
+  const auto polys = visible_receiver_polygons(s, {0}, vp);
+  ASSERT_EQ(polys.size(), 1u);
+  ASSERT_GE(polys[0].size(), 3u);
+  float nearest = 1e9f, farthest = 0.0f;
+  for (const glm::vec3& p : polys[0]) {
+    const glm::vec4 c = vp * glm::vec4(p, 1.0f);
+    EXPECT_GT(c.w, 0.0f);
+    EXPECT_LE(std::fabs(c.x), c.w * 1.0001f);
+    EXPECT_LE(std::fabs(c.y), c.w * 1.0001f);
+    EXPECT_GE(c.z, -1e-4f * c.w);
+    EXPECT_LE(c.z, c.w * 1.0001f);
+    nearest = std::min(nearest, c.w);
+    farthest = std::max(farthest, c.w);
+  }
+  // cut by the near plane (or the frame's bottom edge) in front, by the far plane behind
+  EXPECT_LT(nearest, 2.0f);
+  EXPECT_NEAR(farthest, 100.0f, 0.5f);
+  // a triangle wholly behind the camera leaves nothing
+  s.meshes[0].positions = {{-1, 0, 10}, {1, 0, 10}, {0, 1, 12}};
+  EXPECT_TRUE(visible_receiver_polygons(s, {0}, vp).empty());
+}
+
 TEST(ShadowSize, CliTakesViewOrLightAndRefusesAnythingElse) {
   const std::string dir = test::fresh_test_dir("shadow_size_cli").string();
   CliRun r =
