@@ -356,7 +356,9 @@ void register_bench(CLI::App& app, Action& action) {
       "bench",
       "Accuracy/cost sweep: techniques x steps x view angles x height fields (docs/accuracy.md)");
   a->sub = sub;
-  sub->add_option("--backend", a->backend, "cpu, gl or cpu,gl (gl: time of the GLSL twins)")
+  sub->add_option("--backend", a->backend,
+                  "cpu, gl or cpu,gl (gl: time of the GLSL twins and, when relief is swept, of "
+                  "the relief paper's appendix shader)")
       ->capture_default_str();
   sub->add_option("--size", a->size, "Frame size WxH of each view")->capture_default_str();
   sub->add_option("--threads", a->threads, "Worker threads, 0 = all cores")->capture_default_str();
