@@ -161,15 +161,21 @@ namespace {
 // clip): -w <= x <= w, -w <= y <= w and, with `depth`, 0 <= z <= w (reversed-Z), else only w > 0
 // (in front). Each bound is a half-space whose distance is affine in the world point, so cutting
 // edges in world space puts the new corners exactly on the planes (Sutherland and Hodgman 1974).
+// Buffers clip_polygon reuses from call to call (no allocation a polygon once they have grown).
+struct ClipScratch {
+  std::vector<glm::vec3> next;
+  std::vector<float> dist;
+};
+
 void clip_polygon(const std::vector<glm::vec3>& in, const glm::mat4& m, bool depth,
-                  std::vector<glm::vec3>& out) {
+                  std::vector<glm::vec3>& out, ClipScratch& scratch) {
   static constexpr float kFront = 1e-6f;  // w > 0: points at the eye are cut away
   // clip-space planes (a, b, c, d): a x + b y + c z + d w >= e
   static constexpr float kPlanes[7][4] = {{0, 0, 0, 1},  {1, 0, 0, 1}, {-1, 0, 0, 1}, {0, 1, 0, 1},
                                           {0, -1, 0, 1}, {0, 0, 1, 0}, {0, 0, -1, 1}};
   out = in;
-  std::vector<glm::vec3> next;
-  std::vector<float> dist;
+  std::vector<glm::vec3>& next = scratch.next;
+  std::vector<float>& dist = scratch.dist;
   for (int plane = 0; plane < (depth ? 7 : 5) && !out.empty(); ++plane) {
     const glm::vec4 n(kPlanes[plane][0], kPlanes[plane][1], kPlanes[plane][2], kPlanes[plane][3]);
     const float e = plane == 0 ? kFront : 0.0f;
@@ -197,6 +203,7 @@ std::vector<std::vector<glm::vec3>> visible_receiver_polygons(const Scene& scene
   const size_t stride = std::max<size_t>(1, (triangles + budget - 1) / std::max<size_t>(budget, 1));
   std::vector<std::vector<glm::vec3>> out;
   std::vector<glm::vec3> tri(3), clipped;
+  ClipScratch scratch;
   size_t t_index = 0;
   for (int i : instances) {
     const Instance& inst = scene.instances[i];
@@ -206,7 +213,7 @@ std::vector<std::vector<glm::vec3>> visible_receiver_polygons(const Scene& scene
       for (int k = 0; k < 3; ++k)
         tri[k] = glm::vec3(inst.transform * glm::vec4(m.positions[m.indices[t + k]], 1.0f));
       // the depth planes too: the near plane bounds how close a receiver point can be
-      clip_polygon(tri, view_proj, true, clipped);
+      clip_polygon(tri, view_proj, true, clipped, scratch);
       if (clipped.size() >= 3) out.push_back(clipped);
     }
   }
@@ -221,11 +228,12 @@ int view_shadow_size(const ShadowPassSetup& setup,
   double need = 0.0;  // the largest side a corner asks for
   bool seen = false;
   std::vector<glm::vec3> in_map;
+  ClipScratch scratch;
   for (const std::vector<glm::vec3>& poly : polygons)
     for (int f = 0; f < setup.faces; ++f) {
       // the part each face's map covers: texel / pixel is a ratio of two affine functions of
       // the point (distance along the face's axis, the view's clip w), largest at a corner
-      clip_polygon(poly, setup.proj[f] * setup.view[f], false, in_map);
+      clip_polygon(poly, setup.proj[f] * setup.view[f], false, in_map, scratch);
       for (const glm::vec3& p : in_map) {
         const double along = -(setup.view[f] * glm::vec4(p, 1.0f)).z;
         const double texel = setup.orthographic ? setup.texel : setup.texel * std::max(along, 0.0);
