@@ -1,6 +1,7 @@
-// The CPU pipeline's frame (rasterizer/pipeline.h): triangle setup (rasterizer/setup.cpp, with
-// the clipper in rasterizer/clip.cpp), binning into tiles, then the tiles in parallel, each
-// cleared and traversed (rasterizer/raster_tile.cpp) by one thread.
+// The CPU pipeline's frame (rasterizer/pipeline.h): triangle setup and binning into tiles
+// (rasterizer/setup.cpp, with the clipper in rasterizer/clip.cpp; in parallel over runs of
+// vertices and segments of triangles), then the tiles in parallel, each cleared and traversed
+// (rasterizer/raster_tile.cpp) by one thread.
 #include "rasterizer/pipeline.h"
 
 #include <algorithm>
@@ -18,24 +19,12 @@ using namespace raster_detail;
 
 struct Rasterizer::Impl {
   // Frame state, reused between frames so steady state does not allocate.
-  FrameSetup setup;                         // setup triangles and their attribute planes
-  std::vector<std::vector<uint32_t>> bins;  // triangle indices per tile, submission order
+  FrameSetup setup;  // setup triangles, their attribute planes, binned by tile
   std::vector<std::unique_ptr<Worker>> workers;
   RasterStats stats;
   int tiles_x = 0, tiles_y = 0, tile = 64;
 
-  TileGrid grid() const { return {setup.tris, bins, setup.planes.data(), tile, tiles_x}; }
-
-  void bin() {
-    for (auto& b : bins) b.clear();
-    for (uint32_t i = 0; i < setup.tris.size(); ++i) {
-      const SetupTriangle& t = setup.tris[i];
-      const int tx0 = t.x0 / tile, tx1 = t.x1 / tile, ty0 = t.y0 / tile, ty1 = t.y1 / tile;
-      for (int ty = ty0; ty <= ty1; ++ty)
-        for (int tx = tx0; tx <= tx1; ++tx) bins[size_t(ty) * tiles_x + tx].push_back(i);
-    }
-    stats.triangles_binned = setup.tris.size();
-  }
+  TileGrid grid() const { return {setup.runs, tile, tiles_x}; }
 
   // Clears one tile's rows of every plane the target has (a depth-only target has no colour).
   void clear_tile(Framebuffer& fb, const ClearValues& c, int tile) const {
@@ -72,11 +61,7 @@ RasterStats Rasterizer::draw(Framebuffer& fb, std::span<const DrawCall> draws,
   im.tile = config_.tile_size;
   im.tiles_x = (fb.width + im.tile - 1) / im.tile;
   im.tiles_y = (fb.height + im.tile - 1) / im.tile;
-  im.setup.begin(fb.width, fb.height);
-  im.bins.resize(size_t(im.tiles_x) * im.tiles_y);
-  for (size_t d = 0; d < draws.size(); ++d)
-    im.setup.setup_draw(static_cast<int>(d), draws[d], im.stats);
-  im.bin();
+  im.setup.run(pool_, draws, fb.width, fb.height, im.tile, im.tiles_x, im.tiles_y, im.stats);
   const auto t1 = Clock::now();
 
   while (static_cast<int>(im.workers.size()) < pool_.size())

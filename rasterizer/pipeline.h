@@ -42,7 +42,10 @@ using PacketShader = void (*)(const void* user, const FragmentPacket& in, Fragme
                               WorkCounters& counters);
 
 struct DrawCall {
-  std::span<const glm::vec4> clip;    // per vertex
+  // Per vertex: clip positions, or positions that `transform` takes to clip space (the setup
+  // transforms them in parallel, into its own buffers: the CPU backend's world positions).
+  std::span<const glm::vec4> clip;
+  const glm::mat4* transform = nullptr;
   std::span<const float> varyings;    // per vertex, num_varyings each
   int num_varyings = 0;               // <= kMaxVaryings
   std::span<const uint32_t> indices;  // three per triangle
@@ -70,7 +73,7 @@ struct RasterStats {
   uint64_t triangles_binned = 0;   // after clipping
   uint64_t quads = 0;              // quads with coverage handed to shaders
   WorkCounters work;               // summed over threads
-  double setup_ms = 0.0;           // serial: clip, setup, binning
+  double setup_ms = 0.0;           // vertices, clip, setup, binning (parallel steps)
   double raster_ms = 0.0;          // parallel: traversal and shading
 };
 

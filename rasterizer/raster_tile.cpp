@@ -97,7 +97,7 @@ uint8_t quad_mask(const SetupTriangle& t, const int64_t e[3]) {
 // Walks the part of triangle t inside the tile [tx0, tx1] x [ty0, ty1], two quads (8 lanes) at
 // a time: coverage from the exact edge functions (skipped when the whole rectangle is inside),
 // depth and varyings from the float planes, early depth test, packets of up to 16 quads.
-void raster_triangle(const TileGrid& g, Worker& w, Framebuffer& fb, const DrawCall& dc,
+void raster_triangle(const float* planes, Worker& w, Framebuffer& fb, const DrawCall& dc,
                      const SetupTriangle& t, int tx0, int ty0, int tx1, int ty1) {
   const int nv = dc.num_varyings;
   FragmentPacket& p = w.packet;
@@ -121,7 +121,7 @@ void raster_triangle(const TileGrid& g, Worker& w, Framebuffer& fb, const DrawCa
     inside &= outside == 0;
   }
   const bool early = dc.depth_test != DepthTest::kLate;
-  const float* pl = &g.planes[t.plane];
+  const float* pl = planes + t.plane;
   const vf kDx = {0, 1, 0, 1, 2, 3, 2, 3}, kDy = {0, 0, 1, 1, 0, 0, 1, 1};
   const vi kHigh = {4, 5, 6, 7, 4, 5, 6, 7};
   const int dw = fb.depth.width;
@@ -219,10 +219,11 @@ RELIEF_LANE_FLATTEN void raster_tile(const TileGrid& g, Worker& w, Framebuffer& 
                                      std::span<const DrawCall> draws, int tile) {
   int x0, y0, x1, y1;
   tile_rect(g, fb, tile, x0, y0, x1, y1);
-  for (uint32_t ti : g.bins[tile]) {
-    const SetupTriangle& t = g.tris[ti];
-    raster_triangle(g, w, fb, draws[t.draw], t, x0, y0, x1, y1);
-  }
+  for (const TileBins& r : g.runs)
+    for (uint32_t i = r.start[tile]; i < r.start[tile + 1]; ++i) {
+      const SetupTriangle& t = r.tris[r.items[i]];
+      raster_triangle(r.planes, w, fb, draws[t.draw], t, x0, y0, x1, y1);
+    }
 }
 
 }  // namespace HWY_NAMESPACE

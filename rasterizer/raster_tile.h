@@ -42,11 +42,19 @@ struct Worker {
   uint64_t quads = 0;
 };
 
-// The frame's setup output that every tile reads.
-struct TileGrid {
-  std::span<const SetupTriangle> tris;
-  std::span<const std::vector<uint32_t>> bins;  // triangle indices per tile, submission order
+// One segment of the frame's setup (rasterizer/setup_internal.h SetupSegment) as the tiles read
+// it: its triangles, their planes, and per tile the indices of those that touch it
+// (items[start[tile] .. start[tile + 1])), in submission order.
+struct TileBins {
+  const SetupTriangle* tris;
   const float* planes;
+  const uint32_t* start;
+  const uint32_t* items;
+};
+
+// The frame's setup output that every tile reads: the segments in submission order.
+struct TileGrid {
+  std::span<const TileBins> runs;
   int tile, tiles_x;  // tile size in pixels, tiles per row
 };
 

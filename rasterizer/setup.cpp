@@ -52,38 +52,43 @@ void attribute_planes(const int32_t px[3], const int32_t py[3], int x0, int y0,
   }
 }
 
-void FrameSetup::begin(int target_width, int target_height) {
-  width = target_width;
-  height = target_height;
-  gx = guard_band(target_width);
-  gy = guard_band(target_height);
-  tris.clear();
-  vary.clear();
-  clip_arena.clear();
-  planes.clear();
-}
-
 uint32_t FrameSetup::outcode(const glm::vec4& c) const {
   return clip_outcode(c, gx, gy);
 }
 
-bool FrameSetup::to_screen(const glm::vec4& c, const float* v, int nv, ScreenVertex& s) {
+bool FrameSetup::to_screen(const glm::vec4& c, const float* v, ScreenVertex& s) const {
   if (!screen_vertex(c, width, height, s.x, s.y, s.z, s.iw)) return false;
-  s.vary = static_cast<uint32_t>(vary.size());
-  for (int k = 0; k < nv; ++k) vary.push_back(v[k] * s.iw);
+  s.vary = v;
   return true;
 }
 
-void FrameSetup::setup(int draw, const DrawCall& dc, ScreenVertex v0, ScreenVertex v1,
-                       ScreenVertex v2, RasterStats& stats) {
+void FrameSetup::place_vertices(const DrawCall& dc, DrawVertices& dv, size_t first,
+                                size_t last) const {
+  const int nv = dc.num_varyings;
+  if (dc.transform) {
+    const glm::mat4& m = *dc.transform;
+    for (size_t i = first; i < last; ++i) dv.clip_storage[i] = m * dc.clip[i];
+  }
+  for (size_t i = first; i < last; ++i) {
+    const glm::vec4& c = dv.clip[i];
+    bool valid = finite4(c);
+    dv.codes[i] = valid ? outcode(c) : 0;
+    if (valid && !(dv.codes[i] & kNeedsClip))
+      valid = to_screen(c, dc.varyings.data() + i * nv, dv.screen[i]);
+    dv.valid[i] = valid;
+  }
+}
+
+void FrameSetup::setup(SetupSegment& seg, const DrawCall& dc, ScreenVertex v0, ScreenVertex v1,
+                       ScreenVertex v2) const {
   int64_t area = int64_t(v1.x - v0.x) * (v2.y - v0.y) - int64_t(v1.y - v0.y) * (v2.x - v0.x);
   if (area == 0) {
-    ++stats.triangles_culled;
+    ++seg.stats.triangles_culled;
     return;
   }
   const bool front = area < 0;  // counter-clockwise in NDC (y up) has negative area in y-down
   if ((dc.cull == CullMode::kBack && !front) || (dc.cull == CullMode::kFront && front)) {
-    ++stats.triangles_culled;
+    ++seg.stats.triangles_culled;
     return;
   }
   if (area < 0) {  // edge functions below assume positive area
@@ -91,14 +96,14 @@ void FrameSetup::setup(int draw, const DrawCall& dc, ScreenVertex v0, ScreenVert
     area = -area;
   }
   SetupTriangle t;
-  t.draw = draw;
+  t.draw = seg.draw;
   t.front_facing = front;
   const ScreenVertex* v[3] = {&v0, &v1, &v2};
   const int64_t minx = std::min({v0.x, v1.x, v2.x}), maxx = std::max({v0.x, v1.x, v2.x});
   const int64_t miny = std::min({v0.y, v1.y, v2.y}), maxy = std::max({v0.y, v1.y, v2.y});
   // Pixels whose centre (x * 256 + 128) lies in the box.
   if (!pixel_box(minx, maxx, miny, maxy, width, height, t.x0, t.y0, t.x1, t.y1)) {
-    ++stats.triangles_culled;
+    ++seg.stats.triangles_culled;
     return;
   }
   for (int e = 0; e < 3; ++e) {
@@ -114,83 +119,152 @@ void FrameSetup::setup(int draw, const DrawCall& dc, ScreenVertex v0, ScreenVert
   }
   // Plane equations in double, stored in float relative to the bounding box's first pixel.
   const int nv = dc.num_varyings;
-  t.plane = static_cast<uint32_t>(planes.size());
-  planes.resize(planes.size() + size_t(kPlaneVary + nv) * 3);
+  t.plane = static_cast<uint32_t>(seg.planes.size());
+  seg.planes.resize(seg.planes.size() + size_t(kPlaneVary + nv) * 3);
   const int32_t px[3] = {v0.x, v[1]->x, v[2]->x}, py[3] = {v0.y, v[1]->y, v[2]->y};
   float values[kPlaneVary + kMaxVaryings][3];
   const float* rows[kPlaneVary + kMaxVaryings];
   for (int i = 0; i < 3; ++i) {
     values[kPlaneZ][i] = v[i]->z;
     values[kPlaneIw][i] = v[i]->iw;
-    for (int k = 0; k < nv; ++k) values[kPlaneVary + k][i] = vary[v[i]->vary + k];
+    for (int k = 0; k < nv; ++k) values[kPlaneVary + k][i] = v[i]->vary[k] * v[i]->iw;
   }
   for (int k = 0; k < kPlaneVary + nv; ++k) rows[k] = values[k];
-  attribute_planes(px, py, t.x0, t.y0, rows, kPlaneVary + nv, &planes[t.plane]);
-  tris.push_back(t);
+  attribute_planes(px, py, t.x0, t.y0, rows, kPlaneVary + nv, &seg.planes[t.plane]);
+  seg.tris.push_back(t);
 }
 
 // Sutherland-Hodgman in homogeneous space against the planes in `planes`, then a fan.
-void FrameSetup::clip_and_setup(int draw, const DrawCall& dc, const ClipVertex in[3],
-                                uint32_t planes, RasterStats& stats) {
+void FrameSetup::clip_and_setup(SetupSegment& seg, const DrawCall& dc, const ClipVertex in[3],
+                                uint32_t planes) const {
   const int nv = dc.num_varyings;
   ClipPolygon a;
-  clip_triangle(in, nv, planes, gx, gy, clip_arena, a);
+  seg.clip_arena.clear();
+  clip_triangle(in, nv, planes, gx, gy, seg.clip_arena, a);
   if (a.n < 3) {
-    ++stats.triangles_culled;
+    ++seg.stats.triangles_culled;
     return;
   }
   ScreenVertex s[9];
   for (int i = 0; i < a.n; ++i)
-    if (!to_screen(a.c[i], clip_arena.data() + a.arena[i], nv, s[i])) {
-      ++stats.triangles_culled;
+    if (!to_screen(a.c[i], seg.clip_arena.data() + a.arena[i], s[i])) {
+      ++seg.stats.triangles_culled;
       return;
     }
-  for (int i = 1; i + 1 < a.n; ++i) setup(draw, dc, s[0], s[i], s[i + 1], stats);
+  for (int i = 1; i + 1 < a.n; ++i) setup(seg, dc, s[0], s[i], s[i + 1]);
 }
 
-void FrameSetup::setup_draw(int draw, const DrawCall& dc, RasterStats& stats) {
-  CHECK_LE(dc.num_varyings, kMaxVaryings);
-  CHECK(dc.shader != nullptr);
+void FrameSetup::setup_segment(const DrawCall& dc, SetupSegment& seg) const {
+  const DrawVertices& dv = vertices[seg.draw];
   const size_t nvert = dc.clip.size();
   const int nv = dc.num_varyings;
-  CHECK_GE(dc.varyings.size(), nvert * nv);
-  // Per-vertex outcodes and screen vertices, computed once per vertex.
-  codes.resize(nvert);
-  screen.resize(nvert);
-  valid.resize(nvert);
-  for (size_t i = 0; i < nvert; ++i) {
-    const glm::vec4& c = dc.clip[i];
-    valid[i] = finite4(c);
-    codes[i] = valid[i] ? outcode(c) : 0;
-    if (valid[i] && !(codes[i] & kNeedsClip))
-      valid[i] = to_screen(c, dc.varyings.data() + i * nv, nv, screen[i]);
-  }
-  const size_t ntri = dc.indices.size() / 3;
-  for (size_t t = 0; t < ntri; ++t) {
-    ++stats.triangles_in;
+  seg.tris.clear();
+  seg.planes.clear();
+  seg.stats = RasterStats{};
+  for (size_t t = seg.first; t < seg.first + seg.count; ++t) {
+    ++seg.stats.triangles_in;
     const uint32_t i0 = dc.indices[3 * t], i1 = dc.indices[3 * t + 1], i2 = dc.indices[3 * t + 2];
-    if (i0 >= nvert || i1 >= nvert || i2 >= nvert || !valid[i0] || !valid[i1] || !valid[i2]) {
-      ++stats.triangles_culled;
+    if (i0 >= nvert || i1 >= nvert || i2 >= nvert || !dv.valid[i0] || !dv.valid[i1] ||
+        !dv.valid[i2]) {
+      ++seg.stats.triangles_culled;
       continue;
     }
-    const uint32_t all = codes[i0] & codes[i1] & codes[i2];
+    const uint32_t all = dv.codes[i0] & dv.codes[i1] & dv.codes[i2];
     if (all & (kOutNear | kOutFar | kOutViewL | kOutViewR | kOutViewT | kOutViewB)) {
-      ++stats.triangles_culled;  // wholly outside one plane
+      ++seg.stats.triangles_culled;  // wholly outside one plane
       continue;
     }
-    const uint32_t any = (codes[i0] | codes[i1] | codes[i2]) & kNeedsClip;
+    const uint32_t any = (dv.codes[i0] | dv.codes[i1] | dv.codes[i2]) & kNeedsClip;
     if (!any) {
-      setup(draw, dc, screen[i0], screen[i1], screen[i2], stats);
+      setup(seg, dc, dv.screen[i0], dv.screen[i1], dv.screen[i2]);
     } else {
-      ++stats.triangles_clipped;
-      const ClipVertex in[3] = {{dc.clip[i0], dc.varyings.data() + size_t(i0) * nv},
-                                {dc.clip[i1], dc.varyings.data() + size_t(i1) * nv},
-                                {dc.clip[i2], dc.varyings.data() + size_t(i2) * nv}};
-      uint32_t planes = 0;
-      for (int p = 0; p < 6; ++p)
-        if (any & (1u << p)) planes |= 1u << p;
-      clip_and_setup(draw, dc, in, planes, stats);
+      ++seg.stats.triangles_clipped;
+      const ClipVertex in[3] = {{dv.clip[i0], dc.varyings.data() + size_t(i0) * nv},
+                                {dv.clip[i1], dc.varyings.data() + size_t(i1) * nv},
+                                {dv.clip[i2], dc.varyings.data() + size_t(i2) * nv}};
+      clip_and_setup(seg, dc, in, any & 0x3fu);
     }
+  }
+}
+
+void FrameSetup::bin(SetupSegment& seg, int tile, int tiles_x, int tiles_y) {
+  const size_t ntiles = size_t(tiles_x) * tiles_y;
+  seg.start.assign(ntiles + 1, 0);
+  for (const SetupTriangle& t : seg.tris)
+    for (int ty = t.y0 / tile; ty <= t.y1 / tile; ++ty)
+      for (int tx = t.x0 / tile; tx <= t.x1 / tile; ++tx)
+        ++seg.start[size_t(ty) * tiles_x + tx + 1];
+  for (size_t k = 0; k < ntiles; ++k) seg.start[k + 1] += seg.start[k];
+  seg.items.resize(seg.start[ntiles]);
+  // Fill with a running cursor per tile (start[k] advanced, then shifted back).
+  for (uint32_t i = 0; i < seg.tris.size(); ++i) {
+    const SetupTriangle& t = seg.tris[i];
+    for (int ty = t.y0 / tile; ty <= t.y1 / tile; ++ty)
+      for (int tx = t.x0 / tile; tx <= t.x1 / tile; ++tx)
+        seg.items[seg.start[size_t(ty) * tiles_x + tx]++] = i;
+  }
+  for (size_t k = ntiles; k > 0; --k) seg.start[k] = seg.start[k - 1];
+  seg.start[0] = 0;
+}
+
+void FrameSetup::run(ThreadPool& pool, std::span<const DrawCall> draws, int target_width,
+                     int target_height, int tile, int tiles_x, int tiles_y, RasterStats& stats) {
+  width = target_width;
+  height = target_height;
+  gx = guard_band(target_width);
+  gy = guard_band(target_height);
+  // The draws' vertices, in runs of kVertexRun.
+  if (vertices.size() < draws.size()) vertices.resize(draws.size());
+  vertex_runs.clear();
+  for (size_t d = 0; d < draws.size(); ++d) {
+    const DrawCall& dc = draws[d];
+    CHECK_LE(dc.num_varyings, kMaxVaryings);
+    CHECK(dc.shader != nullptr);
+    const size_t nvert = dc.clip.size();
+    CHECK_GE(dc.varyings.size(), nvert * dc.num_varyings);
+    DrawVertices& dv = vertices[d];
+    if (dc.transform) {
+      dv.clip_storage.resize(nvert);
+      dv.clip = dv.clip_storage.data();
+    } else {
+      dv.clip = dc.clip.data();
+    }
+    dv.codes.resize(nvert);
+    dv.screen.resize(nvert);
+    dv.valid.resize(nvert);
+    for (size_t v = 0; v < nvert; v += kVertexRun) vertex_runs.emplace_back(int(d), v);
+  }
+  pool.run(static_cast<int>(vertex_runs.size()), [&](int r, int) {
+    const auto [d, first] = vertex_runs[r];
+    const DrawCall& dc = draws[d];
+    place_vertices(dc, vertices[d], first, std::min(first + kVertexRun, dc.clip.size()));
+  });
+  // The draws' triangles in segments of kSegmentTriangles, each set up and binned.
+  used = 0;
+  for (size_t d = 0; d < draws.size(); ++d) {
+    const size_t ntri = draws[d].indices.size() / 3;
+    for (size_t t = 0; t < ntri; t += kSegmentTriangles) {
+      if (used == segments.size()) segments.push_back(std::make_unique<SetupSegment>());
+      SetupSegment& seg = *segments[used++];
+      seg.draw = static_cast<int>(d);
+      seg.first = t;
+      seg.count = std::min(kSegmentTriangles, ntri - t);
+    }
+  }
+  pool.run(static_cast<int>(used), [&](int k, int) {
+    SetupSegment& seg = *segments[k];
+    setup_segment(draws[seg.draw], seg);
+    bin(seg, tile, tiles_x, tiles_y);
+  });
+  runs.clear();
+  for (size_t k = 0; k < used; ++k) {
+    const SetupSegment& seg = *segments[k];
+    stats.triangles_in += seg.stats.triangles_in;
+    stats.triangles_culled += seg.stats.triangles_culled;
+    stats.triangles_clipped += seg.stats.triangles_clipped;
+    stats.triangles_binned += seg.tris.size();
+    if (!seg.tris.empty())
+      runs.push_back({seg.tris.data(), seg.planes.data(), seg.start.data(), seg.items.data()});
   }
 }
 

@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <random>
 
@@ -34,24 +35,31 @@ glm::vec4 to_clip(glm::dvec2 s, double w) {
                    static_cast<float>(0.5 * w), static_cast<float>(w));
 }
 
-std::vector<int> rasterize_count(ThreadPool& pool, const std::vector<glm::vec4>& clip,
-                                 const std::vector<uint32_t>& idx, int tile = 64) {
-  Counter c;
-  std::vector<float> vary;
+// A draw that shades every covered fragment (no culling, no depth write, no colour) with a
+// shader that records what it sees in `user`; returns the pass's counters.
+RasterStats draw_recording(ThreadPool& pool, int tile, const std::vector<glm::vec4>& clip,
+                           const std::vector<float>& vary, int num_varyings,
+                           const std::vector<uint32_t>& idx, PacketShader shader, void* user) {
   DrawCall dc;
   dc.clip = clip;
   dc.varyings = vary;
-  dc.num_varyings = 0;
+  dc.num_varyings = num_varyings;
   dc.indices = idx;
   dc.cull = CullMode::kNone;
   dc.depth_test = DepthTest::kLate;
   dc.depth_write = false;
   dc.color_write = false;
-  dc.shader = &count_shader;
-  dc.user = &c;
+  dc.shader = shader;
+  dc.user = user;
   Framebuffer fb(kW, kH);
   Rasterizer r(pool, RasterConfig{tile});
-  r.draw(fb, std::span<const DrawCall>(&dc, 1));
+  return r.draw(fb, std::span<const DrawCall>(&dc, 1));
+}
+
+std::vector<int> rasterize_count(ThreadPool& pool, const std::vector<glm::vec4>& clip,
+                                 const std::vector<uint32_t>& idx, int tile = 64) {
+  Counter c;
+  draw_recording(pool, tile, clip, {}, 0, idx, &count_shader, &c);
   return c.count;
 }
 
@@ -387,6 +395,62 @@ TEST(Pipeline, BackFaceCulling) {
     Rasterizer r(pool);
     const RasterStats st = r.draw(fb, std::span<const DrawCall>(&dc, 1));
     EXPECT_EQ(st.work.fragments > 0, expect);
+  }
+}
+
+// Records, per pixel, the ids (varying 0, constant over each triangle) of the triangles that
+// covered it, in the order the shader saw them.
+struct OrderLog {
+  std::vector<std::vector<int>> ids = std::vector<std::vector<int>>(kW * kH);
+};
+
+void log_shader(const void* user, const FragmentPacket& p, FragmentOutput& out, WorkCounters&) {
+  auto* log = static_cast<OrderLog*>(const_cast<void*>(user));
+  for (int lane = 0; lane < p.num_quads * 4; ++lane) {
+    out.depth[lane] = 0.0f;
+    if (!p.lane_covered(lane)) continue;
+    const int x = static_cast<int>(p.frag_x[lane]), y = static_cast<int>(p.frag_y[lane]);
+    log->ids[y * kW + x].push_back(static_cast<int>(std::lround(p.varyings[0][lane])));
+  }
+}
+
+// The setup runs in segments of triangles on every thread and each segment bins its own; tiles
+// must still see every pixel's triangles in submission order, whatever the threads and tiles.
+TEST(Pipeline, ManySegmentsKeepSubmissionOrderForAnyThreadCountAndTile) {
+  constexpr int kTriangles = 100000;  // more than three setup segments
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> ux(0.0, kW), uy(0.0, kH), r(1.0, 6.0), a(0.0, 6.2832);
+  std::vector<glm::vec4> clip;
+  std::vector<float> vary;
+  std::vector<uint32_t> idx;
+  for (int t = 0; t < kTriangles; ++t) {
+    const glm::dvec2 c(ux(rng), uy(rng));
+    const double a0 = a(rng);
+    for (int k = 0; k < 3; ++k) {
+      const double ak = a0 + k * 2.0944, rk = r(rng);
+      clip.push_back(to_clip(c + rk * glm::dvec2(std::cos(ak), std::sin(ak)), 1.0));
+      vary.push_back(static_cast<float>(t));
+      idx.push_back(static_cast<uint32_t>(idx.size()));
+    }
+  }
+  std::vector<std::vector<int>> first;
+  for (auto [threads, tile] :
+       {std::pair{1, 64}, std::pair{2, 16}, std::pair{3, 64}, std::pair{2, 512}}) {
+    SCOPED_TRACE(::testing::Message() << threads << " threads, tile " << tile);
+    ThreadPool pool(threads);
+    OrderLog log;
+    const RasterStats st = draw_recording(pool, tile, clip, vary, 1, idx, &log_shader, &log);
+    EXPECT_EQ(st.triangles_in, static_cast<uint64_t>(kTriangles));
+    size_t fragments = 0;
+    for (const std::vector<int>& ids : log.ids) {
+      fragments += ids.size();
+      ASSERT_TRUE(std::is_sorted(ids.begin(), ids.end()));
+    }
+    EXPECT_GT(fragments, static_cast<size_t>(kTriangles));
+    if (first.empty())
+      first = log.ids;
+    else
+      EXPECT_EQ(log.ids, first);
   }
 }
 
