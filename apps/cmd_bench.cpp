@@ -24,6 +24,7 @@ namespace {
 
 struct BenchArgs {
   std::string backend = "cpu";
+  std::string gl_interpolation = "gpu";
   std::string size = "256x256";
   int threads = 0;
   std::string angles = "0,30,60,75,85,89";
@@ -241,6 +242,9 @@ Status parse_sweep_options(BenchArgs& a, sweep::Options& opt, std::vector<int>& 
       return Status::usage("--backend: expected cpu, gl or cpu,gl, got '" + a.backend + "'");
   }
   opt.gl = std::find(backends.begin(), backends.end(), "gl") != backends.end();
+  Result<GlInterpolation> interpolation = parse_gl_interpolation(a.gl_interpolation);
+  if (!interpolation.ok()) return interpolation.status();
+  opt.gl_interpolation = *interpolation;
   // accuracy is always measured on the CPU backend; `gl` alone still needs its rows
   opt.cpu = true;
   if (a.sub->count("--target-error") > 0 &&
@@ -359,6 +363,10 @@ void register_bench(CLI::App& app, Action& action) {
   sub->add_option("--backend", a->backend,
                   "cpu, gl or cpu,gl (gl: time of the GLSL twins and, when relief is swept, of "
                   "the relief paper's appendix shader)")
+      ->capture_default_str();
+  sub->add_option("--gl-interpolation", a->gl_interpolation,
+                  "gl: how the twins interpolate, gpu (GL's own, as `render --backend gl`) or "
+                  "cpu-planes (the CPU's planes, as the agreement tests)")
       ->capture_default_str();
   sub->add_option("--size", a->size, "Frame size WxH of each view")->capture_default_str();
   sub->add_option("--threads", a->threads, "Worker threads, 0 = all cores")->capture_default_str();

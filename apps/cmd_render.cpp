@@ -58,6 +58,7 @@ struct RenderArgs {
   bool no_self_shadow = false;
   ShadowSettings shadow;
   std::string shadow_size = "light";
+  std::string gl_interpolation = "gpu";
   std::string frames;  // LIST (apps/frames.h)
   std::string shard;   // I/N
   bool skip_existing = false;
@@ -101,6 +102,11 @@ nlohmann::json stats_json(const RenderResult& r, const std::string& scene, int w
   j["compile_ms"] = r.compile_ms;
   j["upload_ms"] = r.upload_ms;
   j["readback_ms"] = r.readback_ms;
+  j["geometry_ms"] = r.geometry_ms;
+  j["geometry_reused"] = r.geometry_reused;
+  j["geometry_prepared"] = r.geometry_prepared;
+  j["target_ms"] = r.target_ms;
+  j["other_ms"] = unaccounted_ms(r);
   for (const PassStats& p : r.passes) {
     const RasterStats& s = p.raster;
     nlohmann::json pj;
@@ -413,6 +419,9 @@ Status parse_frame_options(const RenderArgs& a, RenderJob& job) {
   job.backend.tile_size = a.tile_size;
   job.backend.gpu = a.gpu;
   job.backend.count_work = !a.stats.empty();  // the GL backend counts only when asked
+  Result<GlInterpolation> interpolation = parse_gl_interpolation(a.gl_interpolation);
+  if (!interpolation.ok()) return interpolation.status();
+  job.backend.gl_interpolation = *interpolation;
   opt.technique = a.technique;
   opt.scalar_lanes = a.scalar;
   opt.shadows = !a.no_shadows;
@@ -846,6 +855,11 @@ void register_render(CLI::App& app, Action& action) {
                   "Write per-pass counters, timings, cone-map bakes and the build as JSON");
   sub->add_option("--backend", a->backend, "cpu or gl")->capture_default_str();
   sub->add_option("--gpu", a->gpu, "GL backend: EGL device index (-1 = first usable)");
+  sub->add_option("--gl-interpolation", a->gl_interpolation,
+                  "GL backend: gpu (GL interpolates world-space vertices kept on the GPU across "
+                  "frames) or cpu-planes (the CPU rasterizer's planes of every triangle, "
+                  "uploaded each pass: both backends shade the same numbers)")
+      ->capture_default_str();
   sub->add_flag("--explain", a->explain, "Print the plan: passes, variants and why");
   sub->add_flag("--scalar", a->scalar, "Run kernels one fragment at a time (reference path)");
   sub->add_flag("--no-shadows", a->no_shadows, "No shadow passes (shadow maps) in this frame");

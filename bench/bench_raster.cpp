@@ -9,6 +9,8 @@
 // Its time is the main pass up to glFinish (PassStats::ms): no upload, no readback, no counters.
 #include <benchmark/benchmark.h>
 
+#include <glm/geometric.hpp>
+
 #include "base/simd.h"
 #include "builtin/builtin.h"
 #include "gl/gl_backend.h"
@@ -107,6 +109,124 @@ void BM_Raster_Normal_GL(benchmark::State& state) {
 }
 BENCHMARK(BM_Raster_Flat_GL)->Unit(benchmark::kMillisecond)->UseManualTime();
 BENCHMARK(BM_Raster_Normal_GL)->Unit(benchmark::kMillisecond)->UseManualTime();
+
+// The heavy-mesh frame (issue 26, goal 7; scripts/make-grid-gltf.py writes it as a glTF file):
+// a 2 m square grid of 1000 x 1000 quads (2 M triangles, 1 M vertices), `flat`, seen at 45
+// degrees from 4.2 m at 1920x1080, where it covers about 270 k pixels and most triangles hold no
+// pixel centre.
+Scene grid_scene() {
+  constexpr int kCells = 1000;
+  constexpr float kSide = 2.0f;
+  Scene s;
+  s.name = "grid";
+  Mesh m;
+  m.name = "grid";
+  const int n = kCells + 1;
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) {
+      const float u = static_cast<float>(i) / kCells, v = static_cast<float>(j) / kCells;
+      m.positions.emplace_back((u - 0.5f) * kSide, 0.0f, (v - 0.5f) * kSide);
+      m.normals.emplace_back(0.0f, 1.0f, 0.0f);
+      m.uvs.emplace_back(u, v);
+    }
+  for (int j = 0; j < kCells; ++j)
+    for (int i = 0; i < kCells; ++i) {
+      const uint32_t a = static_cast<uint32_t>(j * n + i), b = a + 1, c = a + n, d = c + 1;
+      m.indices.insert(m.indices.end(), {a, c, b, b, c, d});  // counter-clockwise from +y
+    }
+  s.meshes.push_back(std::move(m));
+  Material flat;
+  flat.name = "flat";
+  flat.technique = "flat";
+  flat.base_color = glm::vec4(0.8f, 0.7f, 0.5f, 1.0f);
+  s.materials.push_back(flat);
+  s.instances.push_back({0, 0, glm::mat4(1.0f)});
+  Light sun;
+  sun.direction = glm::normalize(glm::vec3(-0.6f, -0.7f, -0.4f));
+  sun.color = glm::vec3(2.0f);
+  s.lights.push_back(sun);
+  Camera cam;
+  cam.position = glm::vec3(0.0f, 3.0f, 3.0f);
+  cam.yfov_deg = 45.84f;  // the glTF file's 0.8 rad
+  cam.zfar = 50.0f;
+  s.cameras.push_back(cam);
+  return s;
+}
+
+RenderOptions grid_options() {
+  RenderOptions opt;
+  opt.width = 1920;
+  opt.height = 1080;
+  return opt;
+}
+
+// CPU: triangles per second of the main pass (items), its setup and raster parts and the frame.
+void BM_Raster_Grid(benchmark::State& state) {
+  const int threads = static_cast<int>(state.range(0));
+  const Scene scene = grid_scene();
+  Renderer renderer(make_cpu_backend({.threads = threads}));
+  Result<Plan> plan = renderer.plan(scene, grid_options());
+  uint64_t triangles = 0;
+  double setup_ms = 0.0, raster_ms = 0.0, pass_ms = 0.0, frame_ms = 0.0;
+  (void)renderer.execute(scene, *plan);  // warm-up
+  for (auto _ : state) {
+    Result<RenderResult> r = renderer.execute(scene, *plan);
+    for (const PassStats& p : r->passes) {
+      triangles += p.raster.triangles_in;
+      setup_ms += p.raster.setup_ms;
+      raster_ms += p.raster.raster_ms;
+      pass_ms += p.ms;
+    }
+    frame_ms += r->frame_ms;
+    renderer.recycle(std::move(r).value());
+  }
+  state.SetItemsProcessed(static_cast<int64_t>(triangles));
+  const double n = static_cast<double>(state.iterations());
+  state.counters["setup_ms"] = setup_ms / n;
+  state.counters["raster_ms"] = raster_ms / n;
+  state.counters["pass_ms"] = pass_ms / n;
+  state.counters["frame_ms"] = frame_ms / n;
+  state.SetLabel(simd_level_name(simd_level()));
+}
+BENCHMARK(BM_Raster_Grid)
+    ->ArgsProduct({{1, 2}})
+    ->ArgNames({"threads"})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
+
+// GL, steady state: the frame's wall time (the geometry cached since the warm-up frame), with the
+// main pass and the frame/pass ratio as counters. Arg: 0 GPU interpolation, 1 the CPU's planes.
+void BM_Raster_Grid_GL(benchmark::State& state) {
+  const Scene scene = grid_scene();
+  BackendConfig config;
+  if (state.range(0)) config.gl_interpolation = GlInterpolation::kCpuPlanes;
+  auto backend = make_gl_backend(config);
+  if (!backend) {
+    state.SkipWithError(backend.status().message().c_str());
+    return;
+  }
+  Renderer renderer(std::move(backend).value());
+  Result<Plan> plan = renderer.plan(scene, grid_options());
+  (void)renderer.execute(scene, *plan);  // warm-up: compile, upload
+  double pass_ms = 0.0, frame_ms = 0.0, geometry_ms = 0.0;
+  for (auto _ : state) {
+    Result<RenderResult> r = renderer.execute(scene, *plan);
+    for (const PassStats& p : r->passes) pass_ms += p.ms;
+    frame_ms += r->frame_ms;
+    geometry_ms += r->geometry_ms;
+    state.SetIterationTime(r->frame_ms * 1e-3);
+  }
+  const double n = static_cast<double>(state.iterations());
+  state.counters["pass_ms"] = pass_ms / n;
+  state.counters["geometry_ms"] = geometry_ms / n;
+  state.counters["frame_per_pass"] = pass_ms > 0.0 ? frame_ms / pass_ms : 0.0;
+}
+BENCHMARK(BM_Raster_Grid_GL)
+    ->Arg(0)
+    ->Arg(1)
+    ->ArgNames({"cpu_planes"})
+    ->Unit(benchmark::kMillisecond)
+    ->UseManualTime();
 
 }  // namespace
 }  // namespace relief

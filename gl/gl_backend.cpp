@@ -75,6 +75,10 @@ GlBackend::~GlBackend() {
   if (vao_) glDeleteVertexArrays(1, &vao_);
   GLuint bufs[] = {vbo_clip_, vbo_vary_, ebo_};
   glDeleteBuffers(3, bufs);
+  for (auto& [k, g] : geometry_) {
+    glDeleteVertexArrays(1, &g.vao);
+    glDeleteBuffers(3, g.buffers);
+  }
   if (query_) glDeleteQueries(1, &query_);
   for (auto& [k, t] : shadow_textures_) glDeleteTextures(1, &t.id);
   if (shadow_fbo_) glDeleteFramebuffers(1, &shadow_fbo_);
@@ -90,31 +94,37 @@ Result<RenderResult> GlBackend::render(const Scene& scene, const Plan& plan) {
   result.device = ctx_->info().renderer;
   drop_unowned_textures();
 
+  geometry_ms_ = 0.0;
+  if (interpolation_ == GlInterpolation::kGpu) drop_unused_geometry();
+
   // Programs of the frame's variants (the first frame of a variant compiles it).
-  // The prepare stage (render/render.h): world-space vertices once, clip positions per view.
-  const PreparedFrame prep = prepare_frame(scene, plan);
-  result.prepare_ms = prep.ms;
-  std::vector<PreparedDraw> prepared = view_draws(prep, plan.frame.view_proj);
   FramePrograms programs;
-  RELIEF_RETURN_IF_ERROR(select_programs(plan, prepared, programs, &result.compile_ms));
+  RELIEF_RETURN_IF_ERROR(select_programs(scene, plan, programs, &result.compile_ms));
+
+  // The frame's geometry (BackendConfig::gl_interpolation): world-space vertices found in the
+  // cache or prepared and uploaded, or the prepare stage's instances for per-pass planes.
+  ensure_vertex_array();
+  FrameGeometry geometry;
+  RELIEF_RETURN_IF_ERROR(frame_geometry(scene, plan, geometry, result));
 
   // Uploads: textures (cached while the scene holds them), buffers and the target.
-  const auto t_upload = Clock::now();
   FrameTransients transients;  // what nothing caches dies with the frame, on every return path
   DrawTextures textures;
   RELIEF_RETURN_IF_ERROR(upload_textures(plan, programs, transients, textures));
   upload_environment(plan, transients, textures);
   if (count_work_) ensure_counters();
-  ensure_vertex_array();
   RELIEF_RETURN_IF_ERROR(ensure_target(plan.frame.width, plan.frame.height, plan.frame.aovs != 0));
   glFinish();
-  result.upload_ms = ms_since(t_upload);
+  // Everything before the passes that is not compile, prepare or geometry: making the context
+  // current, textures, counters and the target.
+  result.upload_ms = ms_since(t_frame) - result.compile_ms - result.prepare_ms - result.geometry_ms;
   RELIEF_RETURN_IF_ERROR(gl_check("upload"));
 
   // The passes: shadow maps (plan order), then the main pass.
   set_fixed_state(vao_);
-  RELIEF_RETURN_IF_ERROR(shadow_passes(prep, plan, programs, textures, count_work_, result));
-  RELIEF_RETURN_IF_ERROR(main_pass(scene, plan, std::move(prepared), programs, textures, result));
+  RELIEF_RETURN_IF_ERROR(shadow_passes(geometry, plan, programs, textures, count_work_, result));
+  RELIEF_RETURN_IF_ERROR(main_pass(scene, plan, geometry, programs, textures, result));
+  result.geometry_ms += geometry_ms_;  // each pass's view of the geometry (view_ranges)
 
   // Read back.
   const auto t_read = Clock::now();

@@ -53,6 +53,7 @@ struct Locations {
   GLint alpha_mode = -1, alpha_cutoff = -1;
   GLint texture_sampler = -1;  // cone.glsl: (filter, wrap_u, wrap_v) per slot, for texelFetch
   GLint tri_base = -1;         // common.glsl: the draw's first triangle in TrianglePlanesBuffer
+  GLint clip_from_input = -1, snap_like_cpu = -1;  // relief.vert: the interpolation mode
 };
 
 struct Program {
@@ -116,13 +117,35 @@ struct DrawRange {
   GLsizei count;
   size_t index_offset;
   GLint base_vertex;
-  GLint first_triangle;  // index of its first triangle in the TrianglePlanesBuffer
+  GLint first_triangle;  // index of its first triangle in the TrianglePlanesBuffer (-1: none)
+  GLuint vao;            // the vertex array holding it
+};
+
+// One instance's world-space vertices on the GPU (GlInterpolation::kGpu), kept across frames
+// while a frame draws them: positions (vec4), varyings (kGlVaryings a vertex) and indices.
+struct CachedGeometry {
+  GLuint vao = 0, buffers[3] = {0, 0, 0};
+  GLsizei count = 0;  // indices
+  bool used = false;  // drawn by the current frame
+};
+
+// What a frame draws from: the CPU's prepared instances (kCpuPlanes), or each scene instance's
+// cached geometry (kGpu; null where it has nothing to draw).
+struct FrameGeometry {
+  PreparedFrame prep;                         // kCpuPlanes
+  std::vector<const CachedGeometry*> cached;  // kGpu, per scene instance
+  std::vector<int> materials;                 // per scene instance
 };
 
 // The vertex stream: every draw's varyings padded to kGlVaryings floats (relief.vert's six vec4;
 // colour 1 and uv1 0 where the mesh has none).
 constexpr int kGlVaryings = (varying::kCountExtended + 3) / 4 * 4;  // the prelude's kCountGl
 static_assert(varying::kCountExtended <= kGlVaryings);
+
+// Appends `vertices` vertices of num_varyings floats each, padded to kGlVaryings as the vertex
+// stream holds them.
+void append_padded_varyings(const float* varyings, int num_varyings, size_t vertices,
+                            std::vector<float>& out);
 
 // The texture and sampler objects per material and slot, and the exact twin's max-mip buffer.
 struct DrawTextures {
@@ -153,7 +176,9 @@ using BindFn = std::function<void(const Program&, int)>;
 class GlBackend final : public Backend {
  public:
   GlBackend(std::unique_ptr<gl::Context> ctx, const BackendConfig& config)
-      : ctx_(std::move(ctx)), count_work_(config.count_work) {}
+      : ctx_(std::move(ctx)),
+        count_work_(config.count_work),
+        interpolation_(config.gl_interpolation) {}
   ~GlBackend() override;
   std::string name() const override { return "gl"; }
   Result<RenderResult> render(const Scene& scene, const Plan& plan) override;
@@ -167,10 +192,10 @@ class GlBackend final : public Backend {
                      double* compile_ms);
   // Programs: the main pass's variant of every drawn material and, when there are shadow passes,
   // the casters' shadow-pass variant (or depth only). The first frame of a variant compiles it.
-  Status select_programs(const Plan& plan, const std::vector<PreparedDraw>& prepared,
-                         FramePrograms& frame, double* compile_ms);
-  Status select_main_programs(const Plan& plan, const std::vector<PreparedDraw>& prepared,
-                              bool aovs, bool count, FramePrograms& frame, double* compile_ms);
+  Status select_programs(const Scene& scene, const Plan& plan, FramePrograms& frame,
+                         double* compile_ms);
+  Status select_main_programs(const Scene& scene, const Plan& plan, bool aovs, bool count,
+                              FramePrograms& frame, double* compile_ms);
   Status select_shadow_programs(const Plan& plan, bool count, FramePrograms& frame,
                                 double* compile_ms);
 
@@ -187,6 +212,20 @@ class GlBackend final : public Backend {
   std::vector<DrawRange> upload_draws(const std::vector<PreparedDraw>& prepared,
                                       const std::vector<const Program*>& programs, int width,
                                       int height, size_t* warmup_offset);
+  // --- geometry (gl_geometry.cpp)
+  // The frame's geometry (GlInterpolation): prepares (kCpuPlanes) or finds and uploads (kGpu)
+  // every instance; counts into result.geometry_reused and geometry_prepared.
+  Status frame_geometry(const Scene& scene, const Plan& plan, FrameGeometry& geometry,
+                        RenderResult& result);
+  // The ranges drawing `instances` (scene instance indices, in draw order) from one view of a
+  // width x height target, with a degenerate warm-up triangle at *warmup_offset of vao_.
+  std::vector<DrawRange> view_ranges(const FrameGeometry& geometry,
+                                     const std::vector<int>& instances,
+                                     const std::vector<const Program*>& programs,
+                                     const glm::mat4& view_proj, int width, int height,
+                                     size_t* warmup_offset);
+  // Deletes the cached geometry no frame drew since the last call, and clears the marks.
+  void drop_unused_geometry();
   Result<GLuint> height_field_for(const BoundMaterial& m, std::vector<GLuint>& transient_buffers);
   GLuint texture_for(const Texture* t, const BoundMaterial& m, Upload upload,
                      std::vector<GLuint>& transient);
@@ -199,6 +238,9 @@ class GlBackend final : public Backend {
   // made on first use and kept.
   void ensure_counters();
   void ensure_vertex_array();
+  // Points vao's attributes at a position buffer (vec4), a varying buffer (kGlVaryings floats a
+  // vertex) and an index buffer.
+  static void format_vertex_array(GLuint vao, GLuint position, GLuint varyings, GLuint indices);
   Status ensure_target(int w, int h, bool aovs);
   void release_target();
   // The depth array texture of a light's shadow map, (re)made when its size or faces change.
@@ -206,20 +248,22 @@ class GlBackend final : public Backend {
 
   // --- passes (gl_passes.cpp)
   // Shadow passes (plan order), then the receivers' view of each map.
-  Status shadow_passes(const PreparedFrame& prep, const Plan& plan, const FramePrograms& programs,
-                       const DrawTextures& textures, bool count, RenderResult& result);
+  Status shadow_passes(const FrameGeometry& geometry, const Plan& plan,
+                       const FramePrograms& programs, const DrawTextures& textures, bool count,
+                       RenderResult& result);
   // Renders the faces of one shadow pass into the layers of its depth texture.
-  Status shadow_pass(const PreparedFrame& prep, const Plan& plan, const PassPlan& pass,
+  Status shadow_pass(const FrameGeometry& geometry, const Plan& plan, const PassPlan& pass,
                      const FramePrograms& programs, const DrawTextures& textures, bool count,
                      RenderResult& result);
   // One face of a shadow pass: its casters into layer `face` of `depth`.
-  Status shadow_face(const PreparedFrame& prep, const Plan& plan, const PassPlan& pass, int face,
-                     GLuint depth, const FramePrograms& programs, const DrawTextures& textures,
-                     bool count, PassStats& stats, double* compile_ms);
+  Status shadow_face(const FrameGeometry& geometry, const Plan& plan, const PassPlan& pass,
+                     int face, GLuint depth, const FramePrograms& programs,
+                     const DrawTextures& textures, bool count, PassStats& stats,
+                     double* compile_ms);
   // Uploads the receivers' ShadowMapView of each light and binds the maps drawn this frame.
   void bind_shadow_maps(const std::vector<float>& views);
   // The main pass: the plan's draws into the target, in Plan::draw_order.
-  Status main_pass(const Scene& scene, const Plan& plan, std::vector<PreparedDraw> prepared,
+  Status main_pass(const Scene& scene, const Plan& plan, const FrameGeometry& geometry,
                    const FramePrograms& programs, const DrawTextures& textures,
                    RenderResult& result);
   // Sets a program's frame and material uniforms, textures and state for material mi.
@@ -236,7 +280,10 @@ class GlBackend final : public Backend {
   Status read_counters(WorkCounters& work);
 
   std::unique_ptr<gl::Context> ctx_;
-  bool count_work_ = false;  // BackendConfig::count_work
+  bool count_work_ = false;                                // BackendConfig::count_work
+  GlInterpolation interpolation_ = GlInterpolation::kGpu;  // BackendConfig::gl_interpolation
+  std::map<uint64_t, CachedGeometry> geometry_;  // by the hash of what an instance prepares from
+  double geometry_ms_ = 0.0;  // this frame's geometry time inside the passes (kCpuPlanes)
   std::map<std::string, Program> programs_;
   std::map<std::pair<const Texture*, Upload>, CachedTexture> textures_;
   std::map<HeightFieldKey, CachedTexture> height_fields_;

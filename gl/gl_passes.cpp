@@ -50,9 +50,10 @@ const void* index_pointer(size_t first_index) {
 // Draws a degenerate triangle with each program built in this frame, in the pass's state: drivers
 // may finish compiling at the first draw (llvmpipe JITs its fragment code there).
 void warm_up(const std::vector<const Program*>& fresh, const std::vector<const Program*>& programs,
-             size_t warmup_offset, const BindFn& bind, double* compile_ms) {
+             GLuint vao, size_t warmup_offset, const BindFn& bind, double* compile_ms) {
   const auto t = Clock::now();
   bool drew = false;
+  glBindVertexArray(vao);
   for (size_t mi = 0; mi < programs.size(); ++mi) {
     if (!programs[mi] || std::find(fresh.begin(), fresh.end(), programs[mi]) == fresh.end())
       continue;
@@ -68,7 +69,9 @@ void warm_up(const std::vector<const Program*>& fresh, const std::vector<const P
 
 void draw_ranges(const std::vector<DrawRange>& ranges, const std::vector<const Program*>& programs,
                  const BindFn& bind) {
+  GLuint vao = 0;
   for (const DrawRange& r : ranges) {
+    if (r.vao != vao) glBindVertexArray(vao = r.vao);
     const Program& p = *programs[r.material];
     bind(p, r.material);
     glProgramUniform1i(p.id, p.loc.tri_base, r.first_triangle);
@@ -106,17 +109,18 @@ void clear_main_target(GLuint fbo, const Scene& scene, bool aovs) {
   glClearNamedFramebufferfv(fbo, GL_DEPTH, 0, &depth_clear);
 }
 
-// The casters of a shadow pass (CPU: pass.instances with shadow_caster materials) as seen from
-// one face.
-std::vector<PreparedDraw> shadow_casters(const PreparedFrame& prep, const Plan& plan,
-                                         const PassPlan& pass, const FrameUniforms& frame) {
-  std::vector<bool> drawn(prep.instances.size(), false);
-  for (int i : pass.instances) drawn[i] = true;
-  std::vector<PreparedDraw> prepared;
-  for (const PreparedInstance& p : prep.instances)
-    if (drawn[p.instance] && plan.materials[p.material].shadow_caster)
-      prepared.push_back(view_draw(p, frame.view_proj));
-  return prepared;
+// The casters of a shadow pass (CPU: pass.instances with shadow_caster materials), in scene
+// order.
+std::vector<int> shadow_casters(const FrameGeometry& geometry, const Plan& plan,
+                                const PassPlan& pass) {
+  std::vector<bool> drawn(geometry.materials.size(), false);
+  for (int i : pass.instances)
+    if (i >= 0 && static_cast<size_t>(i) < drawn.size()) drawn[i] = true;
+  std::vector<int> casters;
+  for (size_t i = 0; i < drawn.size(); ++i)
+    if (drawn[i] && plan.materials[geometry.materials[i]].shadow_caster)
+      casters.push_back(static_cast<int>(i));
+  return casters;
 }
 
 }  // namespace
@@ -131,6 +135,11 @@ void GlBackend::bind_material(const Program& p, int mi, const Plan& plan,
     set_frame_uniforms(p, frame);
     glProgramUniform2f(p.id, glGetUniformLocation(p.id, "viewport_size"),
                        static_cast<float>(frame.width), static_cast<float>(frame.height));
+    // relief.vert: CPU clip positions as they are, or world positions through the view.
+    const bool planes = interpolation_ == GlInterpolation::kCpuPlanes;
+    const glm::mat4 clip_from_input = planes ? glm::mat4(1.0f) : frame.view_proj;
+    glProgramUniformMatrix4fv(p.id, p.loc.clip_from_input, 1, GL_FALSE, &clip_from_input[0][0]);
+    glProgramUniform1i(p.id, p.loc.snap_like_cpu, planes ? 1 : 0);
   }
   if (it->second != mi) {
     set_material_uniforms(p, m.uniforms);
@@ -172,7 +181,7 @@ void GlBackend::end_pass(PassStats& stats, Clock::time_point t_pass) {
   stats.gpu_ms = gpu_ms > 0.0 && gpu_ms <= stats.ms * 1.05 + 0.05 ? gpu_ms : -1.0;
 }
 
-Status GlBackend::shadow_passes(const PreparedFrame& prep, const Plan& plan,
+Status GlBackend::shadow_passes(const FrameGeometry& geometry, const Plan& plan,
                                 const FramePrograms& programs, const DrawTextures& textures,
                                 bool count, RenderResult& result) {
   std::vector<float> views(static_cast<size_t>(kMaxLights) * kShadowViewFloats, 0.0f);
@@ -180,7 +189,7 @@ Status GlBackend::shadow_passes(const PreparedFrame& prep, const Plan& plan,
     if (pass.kind != PassPlan::Kind::kShadow) continue;
     if (pass.light < 0 || pass.light >= kMaxLights)
       return Status::error("gl: shadow pass \"" + pass.name + "\" has no light uniform");
-    RELIEF_RETURN_IF_ERROR(shadow_pass(prep, plan, pass, programs, textures, count, result));
+    RELIEF_RETURN_IF_ERROR(shadow_pass(geometry, plan, pass, programs, textures, count, result));
     pack_shadow_view(pass.shadow, plan.shadow,
                      &views[static_cast<size_t>(pass.light) * kShadowViewFloats]);
   }
@@ -206,7 +215,7 @@ void GlBackend::bind_shadow_maps(const std::vector<float>& views) {
   }
 }
 
-Status GlBackend::shadow_pass(const PreparedFrame& prep, const Plan& plan, const PassPlan& pass,
+Status GlBackend::shadow_pass(const FrameGeometry& geometry, const Plan& plan, const PassPlan& pass,
                               const FramePrograms& programs, const DrawTextures& textures,
                               bool count, RenderResult& result) {
   PassStats stats = shadow_pass_stats(pass);
@@ -218,8 +227,8 @@ Status GlBackend::shadow_pass(const PreparedFrame& prep, const Plan& plan, const
   bool gpu_valid = true;
   for (int f = 0; f < pass.shadow.faces; ++f) {
     PassStats face;
-    RELIEF_RETURN_IF_ERROR(shadow_face(prep, plan, pass, f, depth, programs, textures, count, face,
-                                       &result.compile_ms));
+    RELIEF_RETURN_IF_ERROR(shadow_face(geometry, plan, pass, f, depth, programs, textures, count,
+                                       face, &result.compile_ms));
     pass_ms += face.ms;
     gpu_valid = gpu_valid && face.gpu_ms >= 0.0;
     gpu_ms += face.gpu_ms;
@@ -231,16 +240,16 @@ Status GlBackend::shadow_pass(const PreparedFrame& prep, const Plan& plan, const
   return {};
 }
 
-Status GlBackend::shadow_face(const PreparedFrame& prep, const Plan& plan, const PassPlan& pass,
+Status GlBackend::shadow_face(const FrameGeometry& geometry, const Plan& plan, const PassPlan& pass,
                               int face, GLuint depth, const FramePrograms& programs,
                               const DrawTextures& textures, bool count, PassStats& stats,
                               double* compile_ms) {
   const ShadowPassSetup& s = pass.shadow;
   const FrameUniforms frame = shadow_face_frame(s, face);
-  const std::vector<PreparedDraw> prepared = shadow_casters(prep, plan, pass, frame);
   size_t warmup_offset = 0;
   const std::vector<DrawRange> ranges =
-      upload_draws(prepared, programs.shadow, s.size, s.size, &warmup_offset);
+      view_ranges(geometry, shadow_casters(geometry, plan, pass), programs.shadow, frame.view_proj,
+                  s.size, s.size, &warmup_offset);
   glNamedFramebufferTextureLayer(shadow_fbo_, GL_DEPTH_ATTACHMENT, depth, 0, face);
   const GLenum status = glCheckNamedFramebufferStatus(shadow_fbo_, GL_DRAW_FRAMEBUFFER);
   if (status != GL_FRAMEBUFFER_COMPLETE)
@@ -249,7 +258,7 @@ Status GlBackend::shadow_face(const PreparedFrame& prep, const Plan& plan, const
   glViewport(0, 0, s.size, s.size);
   BindCache cache;
   auto bind = [&](const Program& p, int mi) { bind_material(p, mi, plan, frame, textures, cache); };
-  if (face == 0) warm_up(programs.fresh, programs.shadow, warmup_offset, bind, compile_ms);
+  if (face == 0) warm_up(programs.fresh, programs.shadow, vao_, warmup_offset, bind, compile_ms);
   if (count) reset_counters();
   const auto t_pass = Clock::now();
   glBeginQuery(GL_TIME_ELAPSED, query_);
@@ -261,9 +270,9 @@ Status GlBackend::shadow_face(const PreparedFrame& prep, const Plan& plan, const
   return gl_check("shadow pass");
 }
 
-Status GlBackend::main_pass(const Scene& scene, const Plan& plan,
-                            std::vector<PreparedDraw> prepared, const FramePrograms& programs,
-                            const DrawTextures& textures, RenderResult& result) {
+Status GlBackend::main_pass(const Scene& scene, const Plan& plan, const FrameGeometry& geometry,
+                            const FramePrograms& programs, const DrawTextures& textures,
+                            RenderResult& result) {
   const bool aovs = plan.frame.aovs != 0;
   const int w = plan.frame.width, h = plan.frame.height;
   FrameUniforms frame = plan.frame;
@@ -271,10 +280,9 @@ Status GlBackend::main_pass(const Scene& scene, const Plan& plan,
   frame.height = h;
   size_t warmup_offset = 0;
   // Plan::draw_order: opaque and MASK draws, then BLEND ones back to front (as the CPU).
-  std::vector<PreparedDraw> ordered;
-  ordered.reserve(prepared.size());
-  for (int i : main_draw_order(plan, prepared.size())) ordered.push_back(std::move(prepared[i]));
-  const std::vector<DrawRange> ranges = upload_draws(ordered, programs.main, w, h, &warmup_offset);
+  const std::vector<DrawRange> ranges =
+      view_ranges(geometry, main_draw_order(plan, geometry.materials.size()), programs.main,
+                  frame.view_proj, w, h, &warmup_offset);
   glBindFramebuffer(GL_FRAMEBUFFER, fbo_);
   glViewport(0, 0, w, h);
   glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
@@ -291,7 +299,7 @@ Status GlBackend::main_pass(const Scene& scene, const Plan& plan,
     bind_material(p, mi, plan, frame, textures, cache);
     set_blend_state(plan.materials[mi].uniforms.alpha_mode == AlphaMode::kBlend, aovs);
   };
-  warm_up(programs.fresh, programs.main, warmup_offset, bind, &result.compile_ms);
+  warm_up(programs.fresh, programs.main, vao_, warmup_offset, bind, &result.compile_ms);
   if (count_work_) reset_counters();
   const auto t_pass = Clock::now();
   // Begun after binding the target: llvmpipe attributes a query to the framebuffer's scene.

@@ -52,6 +52,8 @@ constexpr NamedLocation kNamedLocations[] = {
     {&Locations::has_texture, "has_texture[0]"},
     {&Locations::texture_sampler, "texture_sampler[0]"},
     {&Locations::tri_base, "tri_base"},
+    {&Locations::clip_from_input, "clip_from_input"},
+    {&Locations::snap_like_cpu, "snap_like_cpu"},
 };
 
 Locations find_locations(GLuint p) {
@@ -194,14 +196,13 @@ Status GlBackend::use_program(const Variant& v, const Program** slot, FrameProgr
   return {};
 }
 
-Status GlBackend::select_programs(const Plan& plan, const std::vector<PreparedDraw>& prepared,
-                                  FramePrograms& frame, double* compile_ms) {
+Status GlBackend::select_programs(const Scene& scene, const Plan& plan, FramePrograms& frame,
+                                  double* compile_ms) {
   const size_t nm = plan.materials.size();
   frame.main.assign(nm, nullptr);
   frame.shadow.assign(nm, nullptr);
   const bool aovs = plan.frame.aovs != 0;
-  RELIEF_RETURN_IF_ERROR(
-      select_main_programs(plan, prepared, aovs, count_work_, frame, compile_ms));
+  RELIEF_RETURN_IF_ERROR(select_main_programs(scene, plan, aovs, count_work_, frame, compile_ms));
   const bool has_shadow_pass =
       std::any_of(plan.passes.begin(), plan.passes.end(),
                   [](const PassPlan& p) { return p.kind == PassPlan::Kind::kShadow; });
@@ -209,13 +210,13 @@ Status GlBackend::select_programs(const Plan& plan, const std::vector<PreparedDr
   return select_shadow_programs(plan, count_work_, frame, compile_ms);
 }
 
-Status GlBackend::select_main_programs(const Plan& plan, const std::vector<PreparedDraw>& prepared,
-                                       bool aovs, bool count, FramePrograms& frame,
-                                       double* compile_ms) {
+Status GlBackend::select_main_programs(const Scene& scene, const Plan& plan, bool aovs, bool count,
+                                       FramePrograms& frame, double* compile_ms) {
   const int nm = static_cast<int>(plan.materials.size());
-  for (const PreparedDraw& d : prepared) {
+  for (size_t i = 0; i < scene.instances.size(); ++i) {
+    const Instance& d = scene.instances[i];
     if (d.material < 0 || d.material >= nm)
-      return Status::error("gl: instance " + std::to_string(d.instance) + " has no material");
+      return Status::error("gl: instance " + std::to_string(i) + " has no material");
     if (frame.main[d.material]) continue;
     const BoundMaterial& m = plan.materials[d.material];
     if (!m.plugin) return Status::error("gl: material " + std::to_string(d.material) + " unbound");

@@ -175,12 +175,7 @@ void append_triangle_planes(const PreparedDraw& d, int width, int height, CpuTri
 
 void append_vertices(const PreparedDraw& d, DrawStreams& s) {
   s.clip.insert(s.clip.end(), d.clip.begin(), d.clip.end());
-  for (size_t k = 0; k < d.clip.size(); ++k) {
-    const float* src = &d.varyings[k * static_cast<size_t>(d.num_varyings)];
-    s.vary.insert(s.vary.end(), src, src + d.num_varyings);
-    for (int j = d.num_varyings; j < kGlVaryings; ++j)
-      s.vary.push_back(j < varying::kUv1 ? 1.0f : 0.0f);
-  }
+  append_padded_varyings(d.varyings.data(), d.num_varyings, d.clip.size(), s.vary);
   s.idx.insert(s.idx.end(), d.indices->begin(), d.indices->end());
 }
 
@@ -203,6 +198,18 @@ void stream_data(GLuint buffer, const std::vector<T>& data) {
 }
 
 }  // namespace
+
+void append_padded_varyings(const float* varyings, int num_varyings, size_t vertices,
+                            std::vector<float>& out) {
+  const size_t base = out.size();
+  out.resize(base + vertices * kGlVaryings);
+  for (size_t k = 0; k < vertices; ++k) {
+    const float* src = varyings + k * static_cast<size_t>(num_varyings);
+    float* dst = &out[base + k * kGlVaryings];
+    std::copy(src, src + num_varyings, dst);
+    for (int j = num_varyings; j < kGlVaryings; ++j) dst[j] = j < varying::kUv1 ? 1.0f : 0.0f;
+  }
+}
 
 GLenum wrap_gl(Wrap w) {
   switch (w) {
@@ -402,18 +409,22 @@ void GlBackend::ensure_vertex_array() {
   vbo_clip_ = bufs[0];
   vbo_vary_ = bufs[1];
   ebo_ = bufs[2];
-  glVertexArrayVertexBuffer(vao_, 0, vbo_clip_, 0, sizeof(glm::vec4));
-  glVertexArrayVertexBuffer(vao_, 1, vbo_vary_, 0, sizeof(float) * kGlVaryings);
-  glEnableVertexArrayAttrib(vao_, 0);
-  glVertexArrayAttribFormat(vao_, 0, 4, GL_FLOAT, GL_FALSE, 0);
-  glVertexArrayAttribBinding(vao_, 0, 0);
-  for (int a = 0; a < kGlVaryings / 4; ++a) {
-    glEnableVertexArrayAttrib(vao_, 1 + a);
-    glVertexArrayAttribFormat(vao_, 1 + a, 4, GL_FLOAT, GL_FALSE, sizeof(float) * 4 * a);
-    glVertexArrayAttribBinding(vao_, 1 + a, 1);
-  }
-  glVertexArrayElementBuffer(vao_, ebo_);
+  format_vertex_array(vao_, vbo_clip_, vbo_vary_, ebo_);
   glCreateQueries(GL_TIME_ELAPSED, 1, &query_);
+}
+
+void GlBackend::format_vertex_array(GLuint vao, GLuint position, GLuint varyings, GLuint indices) {
+  glVertexArrayVertexBuffer(vao, 0, position, 0, sizeof(glm::vec4));
+  glVertexArrayVertexBuffer(vao, 1, varyings, 0, sizeof(float) * kGlVaryings);
+  glEnableVertexArrayAttrib(vao, 0);
+  glVertexArrayAttribFormat(vao, 0, 4, GL_FLOAT, GL_FALSE, 0);
+  glVertexArrayAttribBinding(vao, 0, 0);
+  for (int a = 0; a < kGlVaryings / 4; ++a) {
+    glEnableVertexArrayAttrib(vao, 1 + a);
+    glVertexArrayAttribFormat(vao, 1 + a, 4, GL_FLOAT, GL_FALSE, sizeof(float) * 4 * a);
+    glVertexArrayAttribBinding(vao, 1 + a, 1);
+  }
+  glVertexArrayElementBuffer(vao, indices);
 }
 
 std::vector<DrawRange> GlBackend::upload_draws(const std::vector<PreparedDraw>& prepared,
@@ -427,7 +438,7 @@ std::vector<DrawRange> GlBackend::upload_draws(const std::vector<PreparedDraw>& 
     if (!d.indices || d.indices->empty() || !programs[d.material]) continue;
     ranges.push_back({d.material, static_cast<GLsizei>(d.indices->size()), s.idx.size(),
                       static_cast<GLint>(s.clip.size()),
-                      static_cast<GLint>(s.tri.size() / kTriangleHeader)});
+                      static_cast<GLint>(s.tri.size() / kTriangleHeader), vao_});
     append_triangle_planes(d, width, height, planes, s);
     append_vertices(d, s);
   }

@@ -70,9 +70,12 @@ DepthTest depth_test_for(DepthOutput d) {
   }
 }
 
-DrawCall make_draw(const PreparedDraw& p, const BoundMaterial& b) {
+// An instance's draw from a view: its world positions, which the rasterizer's setup takes to
+// clip space by `view_proj` (kept alive until the draw is done).
+DrawCall make_draw(const PreparedInstance& p, const BoundMaterial& b, const glm::mat4& view_proj) {
   DrawCall dc;
-  dc.clip = p.clip;
+  dc.clip = p.world;
+  dc.transform = &view_proj;
   dc.varyings = p.varyings;
   dc.num_varyings = p.num_varyings;
   dc.indices = *p.indices;
@@ -110,10 +113,15 @@ class CpuBackend final : public Backend {
     else
       result.framebuffer = Framebuffer(width, height, aovs);
     spare_ = Framebuffer();
+    result.target_ms = ms_between(t0, Clock::now());
 
-    // The prepare stage: world-space vertices and plugin state, shared by every pass.
-    const PreparedFrame prep = prepare_frame(scene, plan);
-    result.prepare_ms = prep.ms;
+    // The prepare stage: world-space vertices (kept from the last frame where an instance did
+    // not change) and plugin state, shared by every pass.
+    PreparedFrame prep = prepare_frame(scene, plan, &prepared_);
+    result.geometry_ms = prepared_.key_ms;
+    result.prepare_ms = prep.ms - prepared_.key_ms;
+    result.geometry_reused = prepared_.reused;
+    result.geometry_prepared = prepared_.prepared;
     if (!rasterizer_) rasterizer_ = std::make_unique<Rasterizer>(pool_, RasterConfig{tile_size_});
 
     // Shadow passes: one depth map per face, kept until the main pass has read them.
@@ -129,7 +137,8 @@ class CpuBackend final : public Backend {
       frame.lights[pass.light].shadow = &views.back();
     }
 
-    // The main pass.
+    // The main pass, timed from its clip positions and draws to its last tile.
+    const auto t1 = Clock::now();
     std::vector<DrawBinding> bindings(plan.materials.size());
     std::vector<DepthTest> tests(plan.materials.size());
     for (size_t m = 0; m < plan.materials.size(); ++m) {
@@ -138,15 +147,14 @@ class CpuBackend final : public Backend {
       bindings[m].ctx = ShadeContext{&frame, &b.uniforms, prep.state(m), b.effects};
       tests[m] = depth_test_for(b.plugin->depth_output(b.effects));
     }
-    const std::vector<PreparedDraw> prepared = view_draws(prep, frame.view_proj);
     std::vector<DrawCall> draws;
-    draws.reserve(prepared.size());
+    draws.reserve(prep.instances.size());
     // Plan::draw_order: opaque and MASK draws, then BLEND ones back to front (composited over
     // the opaque image, depth tested against it, not written; no AOVs).
-    for (int i : main_draw_order(plan, prepared.size())) {
-      const PreparedDraw& p = prepared[i];
+    for (int i : main_draw_order(plan, prep.instances.size())) {
+      const PreparedInstance& p = prep.instances[i];
       const BoundMaterial& b = plan.materials[p.material];
-      DrawCall dc = make_draw(p, b);
+      DrawCall dc = make_draw(p, b, frame.view_proj);
       dc.depth_test = tests[p.material];
       dc.shader = &call_plugin;
       dc.user = &bindings[p.material];
@@ -155,7 +163,6 @@ class CpuBackend final : public Backend {
       dc.aov_write = aovs != 0 && !dc.blend;
       draws.push_back(dc);
     }
-    const auto t1 = Clock::now();
     PassStats main;
     main.name = "main";
     const ClearValues clear{clear_color(scene), 0.0f};
@@ -163,10 +170,11 @@ class CpuBackend final : public Backend {
     const auto t2 = Clock::now();
     main.ms = ms_between(t1, t2);
     result.passes.push_back(main);
-    result.frame_ms = ms_between(t0, t2);
     shadow_planes_.clear();  // keep this frame's maps only
     for (std::vector<Plane>& faces : maps)
       for (Plane& face : faces) shadow_planes_.push_back(std::move(face));
+    keep_prepared(std::move(prep), prepared_);  // frees what the last frame kept and this one left
+    result.frame_ms = ms_between(t0, Clock::now());
     return result;
   }
 
@@ -195,17 +203,14 @@ class CpuBackend final : public Backend {
           bindings[m].ctx = ShadeContext{&frame, &mask_uniforms[m], nullptr, 0};
         }
       }
-      // Clip positions of the casters only, each kept until the pass has drawn.
-      std::vector<PreparedDraw> prepared;
-      prepared.reserve(pass.instances.size());
-      for (int i : pass.instances)
-        if (plan.materials[prep.instances[i].material].shadow_caster)
-          prepared.push_back(view_draw(prep.instances[i], frame.view_proj));
+      // The casters only, seen from this face.
       std::vector<DrawCall> draws;
-      draws.reserve(prepared.size());
-      for (const PreparedDraw& p : prepared) {
+      draws.reserve(pass.instances.size());
+      for (int i : pass.instances) {
+        const PreparedInstance& p = prep.instances[i];
         const BoundMaterial& b = plan.materials[p.material];
-        DrawCall dc = make_draw(p, b);
+        if (!b.shadow_caster) continue;
+        DrawCall dc = make_draw(p, b, frame.view_proj);
         dc.color_write = false;
         if (bindings[p.material].fn) {
           dc.depth_test = b.shadow_effects
@@ -248,6 +253,7 @@ class CpuBackend final : public Backend {
   std::unique_ptr<Rasterizer> rasterizer_;
   Framebuffer spare_;                 // from recycle(): the next frame's main target
   std::vector<Plane> shadow_planes_;  // the last frame's shadow maps, reused by the next
+  PreparedCache prepared_;            // the last frame's prepared instances
 };
 
 }  // namespace

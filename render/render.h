@@ -122,7 +122,8 @@ inline glm::vec4 clear_color(const Scene& scene) {
 // of every instance does not depend on the view, so the main pass and every shadow-map face share
 // it and each pass transforms only the positions it draws to clip space (view_draw); the plugin
 // state of each bound material (PluginDescriptor::create_state) is made once too. Cross-frame
-// reuse (geometry that did not move) needs the scene to say what changed: issue 26.
+// reuse: the GL backend's default mode keeps each instance's world-space vertices on the GPU
+// between frames, keyed by a hash of what prepare_instance reads (gl/gl_geometry.cpp).
 
 // World-space vertex data of one instance, in the standard varying layout (plugins/plugin.h).
 struct PreparedInstance {
@@ -148,17 +149,40 @@ struct MaterialLayers {
 // (empty or shorter: plain surfaces).
 std::vector<PreparedInstance> prepare_instances(const Scene& scene,
                                                 std::span<const MaterialLayers> layers = {});
+// Scene instance i alone, as prepare_instances makes it.
+PreparedInstance prepare_instance(const Scene& scene, size_t i,
+                                  std::span<const MaterialLayers> layers = {});
 // A bound material's shells: its plugin's layers hook clamped to 1..256 (0 without a hook) and
 // its `depth_scale` parameter (0 when the schema has none).
 MaterialLayers material_layers(const BoundMaterial& material);
+// material_layers of every material of the plan, parallel to Plan::materials.
+std::vector<MaterialLayers> plan_layers(const Plan& plan);
 
 struct PreparedFrame {
   std::vector<PreparedInstance> instances;    // parallel to Scene::instances
+  std::vector<uint64_t> keys;                 // instance_key of each (with a PreparedCache)
   std::vector<std::shared_ptr<void>> states;  // parallel to Plan::materials; null: no state
   double ms = 0.0;                            // wall time of prepare_frame
   const void* state(int material) const { return states[material].get(); }
 };
-PreparedFrame prepare_frame(const Scene& scene, const Plan& plan);
+// A hash (base/hash.h) of everything prepare_instance(scene, i, layers) reads: the mesh's arrays,
+// the instance's transform, its material's uv transform and shells. Equal keys, equal instances.
+uint64_t instance_key(const Scene& scene, size_t i, std::span<const MaterialLayers> layers);
+
+// Prepared instances kept from one frame for the next, by instance_key (the CPU backend's):
+// what the last frame prepared, and how many instances it found here or prepared anew.
+struct PreparedCache {
+  std::map<uint64_t, PreparedInstance> kept;
+  int reused = 0, prepared = 0;
+  double key_ms = 0.0;  // the last frame's hashing
+};
+
+// With a cache: each instance whose key the cache holds is taken from it (its index pointers
+// set to this scene's), the rest are prepared; keep_prepared hands the frame's instances back.
+PreparedFrame prepare_frame(const Scene& scene, const Plan& plan, PreparedCache* cache = nullptr);
+// Puts a finished frame's instances into the cache, replacing what it held (so it holds one
+// frame's geometry at most).
+void keep_prepared(PreparedFrame&& frame, PreparedCache& cache);
 
 // One instance seen from one view: its clip positions, and its prepared varyings (borrowed from
 // the PreparedInstance, which must outlive it).
@@ -210,7 +234,41 @@ struct RenderResult {
   double compile_ms = 0.0;
   double upload_ms = 0.0;
   double readback_ms = 0.0;
+  // Part of frame_ms: the frame's geometry. Both backends keep each instance's prepared
+  // vertices between frames (the GL backend on the GPU, in its default GlInterpolation::kGpu)
+  // and find them by a hash of its mesh, transform and material (instance_key): geometry_ms is
+  // the hashing (and on GL the uploads), geometry_reused the instances found, geometry_prepared
+  // those prepared anew (their prepare in prepare_ms). GL with the CPU's planes: every pass's
+  // clip positions, planes and vertices, computed and uploaded (nothing kept).
+  double geometry_ms = 0.0;
+  int geometry_reused = 0, geometry_prepared = 0;
+  // CPU backend, part of frame_ms: the main target made or recycled (its first frame of a size
+  // allocates and clears it).
+  double target_ms = 0.0;
 };
+
+// What frame_ms holds beyond the named parts (prepare, compile, upload, geometry, target, every
+// pass, read-back): a few microseconds of bookkeeping when every stage is timed; --stats reports
+// it as other_ms.
+inline double unaccounted_ms(const RenderResult& r) {
+  double parts =
+      r.prepare_ms + r.compile_ms + r.upload_ms + r.readback_ms + r.geometry_ms + r.target_ms;
+  for (const PassStats& p : r.passes) parts += p.ms;
+  return r.frame_ms - parts;
+}
+
+// How the GL backend interpolates a triangle's varyings. kGpu: the GPU's own (perspective-correct)
+// interpolation of world-space vertices kept on the GPU across frames; what a user renders with.
+// kCpuPlanes: the CPU rasterizer's planes of every triangle, computed and uploaded each frame,
+// so that both backends shade the same numbers (the agreement tests; ~1e-6 apart otherwise,
+// which cone steps and relaxed-cone shadows turn into different hits).
+enum class GlInterpolation { kGpu, kCpuPlanes };
+// "gpu" or "cpu-planes" (the CLI's --gl-interpolation); a usage error names the flag otherwise.
+inline Result<GlInterpolation> parse_gl_interpolation(const std::string& name) {
+  if (name == "gpu") return GlInterpolation::kGpu;
+  if (name == "cpu-planes") return GlInterpolation::kCpuPlanes;
+  return Status::usage("--gl-interpolation: expected gpu or cpu-planes, got '" + name + "'");
+}
 
 // How a backend runs, fixed when it is made: what does not change from frame to frame.
 struct BackendConfig {
@@ -219,6 +277,7 @@ struct BackendConfig {
   int gpu = -1;        // GL: EGL device index, -1 = the first usable
   // GL: count the work counters (fetches, steps) with atomics; the CPU always counts.
   bool count_work = false;
+  GlInterpolation gl_interpolation = GlInterpolation::kGpu;
 };
 
 // Executes a Plan. Everything a frame asks for (size, AOVs, passes, camera, shadow settings, the

@@ -232,7 +232,8 @@ class Runner {
       }
       // llvmpipe's threads: as many as the CPU backend's unless the caller set them
       if (opt_.threads > 0) setenv("LP_NUM_THREADS", std::to_string(opt_.threads).c_str(), 0);
-      Result<std::unique_ptr<Backend>> b = make_gl_backend();
+      Result<std::unique_ptr<Backend>> b =
+          make_gl_backend({.gl_interpolation = opt_.gl_interpolation});
       if (!b.ok()) {
         gl_error_ = "no GL context: " + b.status().message();
         note = gl_error_;

@@ -45,6 +45,7 @@
 #include "plugins/plugin.h"
 #include "rasterizer/image.h"
 #include "rasterizer/texture.h"
+#include "render/render.h"
 #include "scene/scene.h"
 
 namespace relief::sweep {
@@ -139,6 +140,7 @@ struct Options {
   std::vector<double> angles = {0, 30, 60, 75, 85, 89};
   bool cpu = true;
   bool gl = false;
+  GlInterpolation gl_interpolation = GlInterpolation::kGpu;  // how the twins interpolate
   int warmup = 1;
   int repeats = 5;
   // LOD modes, each a set of rows: kLodLevel0 and/or kLodAsRendered (in this order).

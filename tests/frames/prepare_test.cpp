@@ -124,5 +124,61 @@ TEST(Prepare, PluginStateIsMadeOncePerMaterialAndFreed) {
   EXPECT_EQ(g_destroyed, 2);
 }
 
+RenderResult cpu_frame(Backend& backend, const Scene& scene) {
+  RenderOptions opt;
+  opt.width = 96;
+  opt.height = 72;
+  Result<Plan> plan = make_plan(scene, opt);
+  EXPECT_TRUE(plan.ok()) << plan.status().message();
+  Result<RenderResult> r = backend.render(scene, *plan);
+  EXPECT_TRUE(r.ok()) << r.status().message();
+  return r.ok() ? std::move(*r) : RenderResult{};
+}
+
+bool same_colour(const RenderResult& a, const RenderResult& b) {
+  return a.framebuffer.color.pixels == b.framebuffer.color.pixels;
+}
+
+// The CPU backend keeps each frame's prepared instances for the next (PreparedCache): an unchanged
+// instance is found by instance_key instead of prepared, and the frame's bits do not change.
+TEST(Prepare, CpuBackendReusesUnchangedInstancesAndRendersTheSameBits) {
+  Result<Scene> room = make_builtin_scene("room");
+  ASSERT_TRUE(room.ok());
+  const int n = static_cast<int>(room->instances.size());
+  std::unique_ptr<Backend> cpu = make_cpu_backend({.threads = 2});
+  const RenderResult first = cpu_frame(*cpu, *room);
+  EXPECT_EQ(first.geometry_prepared, n);
+  EXPECT_EQ(first.geometry_reused, 0);
+  const RenderResult second = cpu_frame(*cpu, *room);
+  EXPECT_EQ(second.geometry_prepared, 0);
+  EXPECT_EQ(second.geometry_reused, n);
+  EXPECT_TRUE(same_colour(first, second));
+  // A moved instance is prepared again, alone, and shows.
+  room->instances.back().transform[3][1] += 0.05f;
+  const RenderResult moved = cpu_frame(*cpu, *room);
+  EXPECT_EQ(moved.geometry_prepared, 1);
+  EXPECT_EQ(moved.geometry_reused, n - 1);
+  EXPECT_FALSE(same_colour(first, moved));
+  std::unique_ptr<Backend> fresh = make_cpu_backend({.threads = 2});
+  EXPECT_TRUE(same_colour(moved, cpu_frame(*fresh, *room)));
+}
+
+// A kept instance found for another Scene object with the same content reads that scene's
+// indices, not the first one's (destroyed here: ASan would see a stale pointer).
+TEST(Prepare, KeptInstancesReadTheCurrentScenesIndices) {
+  std::unique_ptr<Backend> cpu = make_cpu_backend({.threads = 1});
+  RenderResult a;
+  {
+    Result<Scene> first = make_builtin_scene("teatime");
+    ASSERT_TRUE(first.ok());
+    a = cpu_frame(*cpu, *first);
+  }
+  Result<Scene> second = make_builtin_scene("teatime");
+  ASSERT_TRUE(second.ok());
+  const RenderResult b = cpu_frame(*cpu, *second);
+  EXPECT_EQ(b.geometry_prepared, 0);
+  EXPECT_TRUE(same_colour(a, b));
+}
+
 }  // namespace
 }  // namespace relief

@@ -60,6 +60,38 @@ TEST(GlCli, StatsCarryGpuTimePerPassAndCompileTimeApart) {
   }
 }
 
+// --gl-interpolation (docs/gl-backend.md, "One frame"): gpu, the default, uploads each instance
+// once and says so in --stats; cpu-planes uploads nothing to keep and spends geometry_ms on the
+// planes every frame; anything else is a usage error with no output.
+TEST(GlCli, GlInterpolationModesShowInStatsAndABadOneIsAUsageError) {
+  RELIEF_REQUIRE_GL();
+  for (const char* mode : {"gpu", "cpu-planes"}) {
+    SCOPED_TRACE(mode);
+    const std::string png = tmp(std::string("gl_interp_") + mode + ".png");
+    const std::string stats = tmp(std::string("gl_interp_") + mode + ".json");
+    const CliRun r = run(std::string("render room --backend gl --size 64x48 --gl-interpolation ") +
+                         mode + " --stats " + stats + " -o " + png);
+    ASSERT_EQ(r.code, 0) << r.out;
+    std::ifstream in(stats);
+    const nlohmann::json j = nlohmann::json::parse(in);
+    const bool gpu = std::string(mode) == "gpu";
+    EXPECT_EQ(j.at("geometry_prepared").get<int>() > 0, gpu);
+    EXPECT_GT(j.at("geometry_ms").get<double>(), 0.0);
+    EXPECT_GE(j.at("other_ms").get<double>(), -1e-3);
+  }
+  const std::string png = tmp("gl_interp_bad.png");
+  fs::remove(png);
+  const CliRun bad =
+      run("render room --backend gl --size 64x48 --gl-interpolation linear -o " + png);
+  EXPECT_EQ(bad.code, 2) << bad.out;
+  EXPECT_EQ(lines(bad.out), 1) << bad.out;
+  EXPECT_NE(bad.out.find("--gl-interpolation"), std::string::npos) << bad.out;
+  EXPECT_FALSE(fs::exists(png));
+  const CliRun bench = run("bench --backend cpu,gl --gl-interpolation linear --fields bricks");
+  EXPECT_EQ(bench.code, 2) << bench.out;
+  EXPECT_EQ(lines(bench.out), 1) << bench.out;
+}
+
 TEST(GlCli, BrokenShaderFileIsOneLineErrorWithFileAndLine) {
   RELIEF_REQUIRE_GL();
   // A shader folder searched first, holding a flat.frag with an error on line 3.

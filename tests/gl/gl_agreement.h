@@ -1,7 +1,9 @@
 // Shared by the CPU/GL agreement tests (tests/gl_frames/agreement_test.cpp says why these bounds):
 // the metric, sRGB-encoded RGB PSNR >= kMinPsnr with at most kMaxOverFraction of the pixels off
 // by more than kThreshold in a channel, and one GL backend per test program (its programs compile
-// once, its cached textures upload once).
+// once, its cached textures upload once). The agreement tests run the GL backend with the CPU's
+// planes (GlInterpolation::kCpuPlanes), so both backends shade the same numbers;
+// tests/gl_frames/gl_geometry_test.cpp holds the default, GL's own interpolation, to the metric.
 #pragma once
 
 #include <memory>
@@ -19,7 +21,8 @@ inline constexpr float kThreshold = 8.0f / 255.0f;
 // The program's GL backend (null, with a test failure, when none can be made).
 inline Backend* shared_gl_backend() {
   static std::unique_ptr<Backend> gl = [] {
-    Result<std::unique_ptr<Backend>> b = make_gl_backend();
+    Result<std::unique_ptr<Backend>> b =
+        make_gl_backend({.gl_interpolation = GlInterpolation::kCpuPlanes});
     EXPECT_TRUE(b.ok()) << b.status().message();
     return b.ok() ? std::move(*b) : nullptr;
   }();

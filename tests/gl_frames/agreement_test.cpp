@@ -135,7 +135,8 @@ std::vector<std::string> builtin_scene_names() {
 
 TEST_P(GlAgreementScene, MatchesCpu) {
   RELIEF_REQUIRE_GL();
-  Result<std::unique_ptr<Backend>> gl = make_gl_backend({.count_work = true});
+  Result<std::unique_ptr<Backend>> gl =
+      make_gl_backend({.count_work = true, .gl_interpolation = GlInterpolation::kCpuPlanes});
   ASSERT_TRUE(gl.ok()) << gl.status().message();
   std::unique_ptr<Backend> cpu = make_cpu_backend({.threads = 0});
   int compared = 0, shadow_passes = 0;
@@ -313,7 +314,8 @@ INSTANTIATE_TEST_SUITE_P(BuiltinScenes, GlAgreementScene,
 // Each mode changes the CPU image against the default (so the parameter reaches the search).
 TEST(GlBackend, SearchLodModesMatchCpu) {
   RELIEF_REQUIRE_GL();
-  Result<std::unique_ptr<Backend>> gl = make_gl_backend();
+  Result<std::unique_ptr<Backend>> gl =
+      make_gl_backend({.gl_interpolation = GlInterpolation::kCpuPlanes});
   ASSERT_TRUE(gl.ok()) << gl.status().message();
   std::unique_ptr<Backend> cpu = make_cpu_backend({.threads = 0});
   Result<Scene> scene = make_builtin_scene("plane");
@@ -352,7 +354,8 @@ TEST(GlBackend, SearchLodModesMatchCpu) {
 
 TEST(GlBackend, SecondFrameCompilesNothingAndIsIdentical) {
   RELIEF_REQUIRE_GL();
-  Result<std::unique_ptr<Backend>> gl = make_gl_backend();
+  Result<std::unique_ptr<Backend>> gl =
+      make_gl_backend({.gl_interpolation = GlInterpolation::kCpuPlanes});
   ASSERT_TRUE(gl.ok()) << gl.status().message();
   Result<Scene> scene = make_builtin_scene(default_scene_name());
   ASSERT_TRUE(scene.ok());
@@ -378,7 +381,8 @@ TEST(GlBackend, SecondFrameCompilesNothingAndIsIdentical) {
 
 TEST(GlBackend, ImageIsTopDownAndBackgroundIsCleared) {
   RELIEF_REQUIRE_GL();
-  Result<std::unique_ptr<Backend>> gl = make_gl_backend();
+  Result<std::unique_ptr<Backend>> gl =
+      make_gl_backend({.gl_interpolation = GlInterpolation::kCpuPlanes});
   ASSERT_TRUE(gl.ok());
   // One triangle in the top half of the view, facing the camera.
   Scene s;
@@ -437,7 +441,8 @@ TEST(GlBackend, ImageIsTopDownAndBackgroundIsCleared) {
 // the same bounds as the built-in comparison; the maps must darken something.
 TEST(GlBackend, ShadowPassesOfEveryLightKindMatchCpu) {
   RELIEF_REQUIRE_GL();
-  Result<std::unique_ptr<Backend>> gl = make_gl_backend();
+  Result<std::unique_ptr<Backend>> gl =
+      make_gl_backend({.gl_interpolation = GlInterpolation::kCpuPlanes});
   ASSERT_TRUE(gl.ok()) << gl.status().message();
   std::unique_ptr<Backend> cpu = make_cpu_backend({.threads = 0});
   Result<Scene> room = make_builtin_scene("room");
@@ -491,7 +496,8 @@ TEST(GlBackend, ShadowPassesOfEveryLightKindMatchCpu) {
 // clear error instead of drawing something else.
 TEST(GlBackend, UnknownTwinIsAnError) {
   RELIEF_REQUIRE_GL();
-  Result<std::unique_ptr<Backend>> gl = make_gl_backend();
+  Result<std::unique_ptr<Backend>> gl =
+      make_gl_backend({.gl_interpolation = GlInterpolation::kCpuPlanes});
   ASSERT_TRUE(gl.ok());
   Result<Scene> scene = make_builtin_scene("plane");
   ASSERT_TRUE(scene.ok());

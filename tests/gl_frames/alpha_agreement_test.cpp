@@ -101,7 +101,8 @@ Scene alpha_scene(const std::string& technique) {
 
 TEST(GlAlpha, MaskShadowAndBlendAgreeWithCpu) {
   RELIEF_REQUIRE_GL();
-  Result<std::unique_ptr<Backend>> gl = make_gl_backend();
+  Result<std::unique_ptr<Backend>> gl =
+      make_gl_backend({.gl_interpolation = GlInterpolation::kCpuPlanes});
   ASSERT_TRUE(gl.ok()) << gl.status().message();
   std::unique_ptr<Backend> cpu = make_cpu_backend({.threads = 2});
   for (const std::string technique : {"flat", "relief"}) {

@@ -30,7 +30,8 @@ Image render(Backend& backend, const Scene& s, const RenderOptions& opt) {
 
 TEST(GlHeightAo, AgreesWithCpu) {
   RELIEF_REQUIRE_GL();
-  Result<std::unique_ptr<Backend>> gl = make_gl_backend();
+  Result<std::unique_ptr<Backend>> gl =
+      make_gl_backend({.gl_interpolation = GlInterpolation::kCpuPlanes});
   ASSERT_TRUE(gl.ok()) << gl.status().message();
   std::unique_ptr<Backend> cpu = make_cpu_backend({.threads = 2});
   Result<Scene> s = make_builtin_scene("plane");

@@ -117,7 +117,8 @@ struct Backends {
   Backends() {
     std::string why;
     if (gl::testing::shared_context(&why)) {
-      Result<std::unique_ptr<Backend>> g = make_gl_backend();
+      Result<std::unique_ptr<Backend>> g =
+          make_gl_backend({.gl_interpolation = GlInterpolation::kCpuPlanes});
       if (g.ok()) gl = std::move(*g);
     }
   }
