@@ -19,9 +19,9 @@ class Hash64 {
     size_t i = 0;
     for (; i + 32 <= n; i += 32)
       for (int k = 0; k < 4; ++k) lane[k] = round(lane[k], load(b + i + 8 * k));
-    uint64_t h = n >= 32 ? rotl(lane[0], 1) + rotl(lane[1], 7) + rotl(lane[2], 12) +
-                               rotl(lane[3], 18)
-                         : h_ + kP5;
+    uint64_t h = n >= 32
+                     ? rotl(lane[0], 1) + rotl(lane[1], 7) + rotl(lane[2], 12) + rotl(lane[3], 18)
+                     : h_ + kP5;
     h += static_cast<uint64_t>(n);
     for (; i + 8 <= n; i += 8) h = rotl(h ^ round(0, load(b + i)), 27) * kP1 + kP4;
     for (; i < n; ++i) h = rotl(h ^ (b[i] * kP5), 11) * kP1;

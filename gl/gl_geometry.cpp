@@ -25,8 +25,9 @@ namespace {
 const std::vector<uint32_t>& valid_indices(const PreparedInstance& d, std::vector<uint32_t>& kept) {
   const std::vector<uint32_t>& ix = *d.indices;
   const size_t whole = ix.size() / 3 * 3;
-  const bool all = ix.size() == whole &&
-                   std::all_of(ix.begin(), ix.end(), [&](uint32_t i) { return i < d.world.size(); });
+  const bool all = ix.size() == whole && std::all_of(ix.begin(), ix.end(), [&](uint32_t i) {
+                     return i < d.world.size();
+                   });
   if (all) return ix;
   for (size_t t = 0; t < whole; t += 3)
     if (std::max({ix[t], ix[t + 1], ix[t + 2]}) < d.world.size())
@@ -36,7 +37,8 @@ const std::vector<uint32_t>& valid_indices(const PreparedInstance& d, std::vecto
 
 template <class T>
 void store(GLuint buffer, const std::vector<T>& data) {
-  glNamedBufferStorage(buffer, static_cast<GLsizeiptr>(std::max<size_t>(data.size(), 1) * sizeof(T)),
+  glNamedBufferStorage(buffer,
+                       static_cast<GLsizeiptr>(std::max<size_t>(data.size(), 1) * sizeof(T)),
                        data.empty() ? nullptr : data.data(), 0);
 }
 

@@ -126,8 +126,8 @@ TEST(GlGeometry, GpuInterpolationAgreesWithTheCpuBackend) {
 // The named parts of a frame and what is left of frame_ms beyond them.
 void expect_accounted(const RenderResult& r, const char* what) {
   SCOPED_TRACE(what);
-  for (double part : {r.prepare_ms, r.compile_ms, r.upload_ms, r.readback_ms, r.geometry_ms,
-                      r.target_ms})
+  for (double part :
+       {r.prepare_ms, r.compile_ms, r.upload_ms, r.readback_ms, r.geometry_ms, r.target_ms})
     EXPECT_GE(part, 0.0);
   const double other = unaccounted_ms(r);
   // Not a timing bound: a stage left out of every part (the planes a GL frame computed before
