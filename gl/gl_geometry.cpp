@@ -55,6 +55,10 @@ Status GlBackend::frame_geometry(const Scene& scene, const Plan& plan, FrameGeom
     return {};
   }
   const auto t0 = Clock::now();
+  // The warm-up triangle (gl_passes.cpp warm_up) alone in vao_'s streams, at index 0: nothing
+  // else is streamed in this mode, so once a frame serves every pass.
+  size_t warmup_offset = 0;
+  upload_draws({}, {}, 0, 0, &warmup_offset);
   double prepare_ms = 0.0;
   const std::vector<MaterialLayers> layers = plan_layers(plan);
   geometry.cached.assign(scene.instances.size(), nullptr);
@@ -112,7 +116,7 @@ std::vector<DrawRange> GlBackend::view_ranges(const FrameGeometry& geometry,
     for (int i : instances) draws.push_back(view_draw(geometry.prep.instances[i], view_proj));
     ranges = upload_draws(draws, programs, width, height, warmup_offset);
   } else {
-    upload_draws({}, programs, width, height, warmup_offset);  // the warm-up triangle alone
+    *warmup_offset = 0;  // streamed once a frame by frame_geometry
     for (int i : instances) {
       const CachedGeometry* g = geometry.cached[i];
       const int material = geometry.materials[i];

@@ -225,7 +225,7 @@ void keep_prepared(PreparedFrame&& frame, PreparedCache& cache) {
 }
 
 PreparedFrame prepare_frame(const Scene& scene, const Plan& plan, PreparedCache* cache) {
-  const auto t0 = std::chrono::steady_clock::now();
+  const auto t0 = Clock::now();
   PreparedFrame frame;
   if (cache)
     frame.instances = cached_instances(scene, plan_layers(plan), *cache, frame.keys);
@@ -242,8 +242,7 @@ PreparedFrame prepare_frame(const Scene& scene, const Plan& plan, PreparedCache*
         if (destroy) destroy(s);
       });
   }
-  frame.ms =
-      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  frame.ms = ms_since(t0);
   return frame;
 }
 

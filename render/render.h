@@ -122,8 +122,9 @@ inline glm::vec4 clear_color(const Scene& scene) {
 // of every instance does not depend on the view, so the main pass and every shadow-map face share
 // it and each pass transforms only the positions it draws to clip space (view_draw); the plugin
 // state of each bound material (PluginDescriptor::create_state) is made once too. Cross-frame
-// reuse: the GL backend's default mode keeps each instance's world-space vertices on the GPU
-// between frames, keyed by a hash of what prepare_instance reads (gl/gl_geometry.cpp).
+// reuse: both backends keep each instance's prepared vertices between frames, keyed by a hash of
+// what prepare_instance reads (instance_key): the CPU backend in a PreparedCache, the GL
+// backend's default mode on the GPU (gl/gl_geometry.cpp).
 
 // World-space vertex data of one instance, in the standard varying layout (plugins/plugin.h).
 struct PreparedInstance {
