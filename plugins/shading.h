@@ -46,6 +46,8 @@ struct FragIn {
   bool has_extended;       // the packet carries colour and uv1 (varying::kCountExtended)
   F frag_z;                // polygon depth (reversed-Z)
   bool front_facing;
+  // The last texture LOD the packet's reads computed (surface.h passes it to every read).
+  mutable GradLodMemo<F> lod_memo;
 };
 
 template <class F>
@@ -74,20 +76,33 @@ inline F load_var(const FragmentPacket& p, int k, int lane0) {
   return load_lanes(&p.varyings[k][lane0], F());
 }
 
-// Per-quad derivative of varying k, broadcast to the quad's lanes.
+// Per-quad derivative of varying k, broadcast to the quad's lanes: lane kTo of the quad (1: the
+// pixel to the right, dFdx; 2: the pixel below, dFdy) less its lane 0. Over lanes (lane0 a
+// multiple of 4, so quads never straddle a group) it is two shuffles of the loaded lanes and one
+// subtraction, the same float difference as lane by lane.
+template <int kTo, class F>
+inline F quad_delta(const FragmentPacket& p, int k, int lane0) {
+  if constexpr (is_lanes_v<F>) {
+    constexpr int n = lane_width<F>;
+    const auto v = load_var<F>(p, k, lane0).v;
+    vi_t<n> base{}, to{};
+    for (int i = 0; i < n; ++i) {
+      base[i] = i & ~3;
+      to[i] = (i & ~3) + kTo;
+    }
+    return F(__builtin_shuffle(v, to) - __builtin_shuffle(v, base));
+  } else {
+    const int q = lane0 & ~3;
+    return p.varyings[k][q + kTo] - p.varyings[k][q];
+  }
+}
 template <class F>
 inline F ddx(const FragmentPacket& p, int k, int lane0) {
-  return per_lane(F(), [&](int i) {
-    const int q = (lane0 + i) & ~3;
-    return p.varyings[k][q + 1] - p.varyings[k][q];
-  });
+  return quad_delta<1, F>(p, k, lane0);
 }
 template <class F>
 inline F ddy(const FragmentPacket& p, int k, int lane0) {
-  return per_lane(F(), [&](int i) {
-    const int q = (lane0 + i) & ~3;
-    return p.varyings[k][q + 2] - p.varyings[k][q];
-  });
+  return quad_delta<2, F>(p, k, lane0);
 }
 
 template <class F>

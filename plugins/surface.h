@@ -61,7 +61,7 @@ SlotUv<F> map_uv(const UvMap& map, const V2<F>& uv, const FragIn<F>& in) {
 template <class F>
 V4<F> sample_slot(const MaterialUniforms& m, int slot, const V2<F>& uv, const FragIn<F>& in) {
   const SlotUv<F> s = map_uv(m.uv_maps[slot], uv, in);
-  return texture_grad_call(*m.textures[slot], m.samplers[slot], s.uv, s.dx, s.dy);
+  return texture_grad_call(*m.textures[slot], m.samplers[slot], s.uv, s.dx, s.dy, in.lod_memo);
 }
 
 // The material's base colour times the texture in `slot` (when bound) at uv times the vertex
@@ -96,7 +96,8 @@ SurfaceColor<F> sample_surface(const MaterialUniforms& m, int slot, const V2<F>&
   if (m.shading != ShadingModel::kMetallicRoughness) return s;
   if (const Texture* t = m.metallic_roughness_texture) {
     const SlotUv<F> su = map_uv(m.metallic_roughness_uv, uv, in);
-    const V4<F> c = texture_grad_call(*t, m.metallic_roughness_sampler, su.uv, su.dx, su.dy);
+    const V4<F> c =
+        texture_grad_call(*t, m.metallic_roughness_sampler, su.uv, su.dx, su.dy, in.lod_memo);
     s.roughness = s.roughness * c.y;
     s.metallic = s.metallic * c.z;
     fetches += F(1.0f);
@@ -170,7 +171,7 @@ V3<F> finish_surface(const ShadeContext& ctx, const FragIn<F>& in, const V2<F>& 
   if (m.unlit) return surface.albedo;
   if (const Texture* t = m.occlusion_texture) {
     const SlotUv<F> s = map_uv(m.occlusion_uv, uv, in);
-    const F r = texture_grad_call(*t, m.occlusion_sampler, s.uv, s.dx, s.dy).x;
+    const F r = texture_grad_call(*t, m.occlusion_sampler, s.uv, s.dx, s.dy, in.lod_memo).x;
     fetches += F(1.0f);
     surface.occlusion = surface.occlusion * (F(1.0f) + F(m.occlusion_strength) * (r - F(1.0f)));
   }
@@ -179,7 +180,7 @@ V3<F> finish_surface(const ShadeContext& ctx, const FragIn<F>& in, const V2<F>& 
     V3<F> e(m.emissive);
     if (const Texture* t = m.emissive_texture) {
       const SlotUv<F> s = map_uv(m.emissive_uv, uv, in);
-      e = e * texture_grad_call(*t, m.emissive_sampler, s.uv, s.dx, s.dy).xyz();
+      e = e * texture_grad_call(*t, m.emissive_sampler, s.uv, s.dx, s.dy, in.lod_memo).xyz();
       fetches += F(1.0f);
     }
     c += e;

@@ -174,6 +174,40 @@ template <int kBytes, int kTexels = 1, class I>
   return idx;  // not reached: can_gather is false wherever this is not a gather
 }
 
+// Texels idx and idx + 1 of a 4-byte format (RGBA8, R32F; both inside the level, can_gather said
+// yes) a lane: one 8-byte gather per lane (two 8-lane gathers for 16 lanes, two 4-lane gathers
+// for 8), split into the first and second texel's words. Half the gathered elements of two
+// 4-byte gathers, the same words.
+#if HWY_ARCH_X86 && HWY_TARGET <= HWY_AVX2
+template <int N>
+[[gnu::always_inline]] inline void gather_pair4(const MipLevel& level, const IV<N>& idx,
+                                                IV<N>& first, IV<N>& second) {
+  const auto* base = reinterpret_cast<const long long*>(level.data.data());
+  const IV<N> off = idx * IV<N>(4);
+  if constexpr (N == 16) {
+    const __m512i o = reinterpret_cast<__m512i>(off.v);
+    const __m512i lo = _mm512_i32gather_epi64(_mm512_castsi512_si256(o), base, 1);
+    const __m512i hi = _mm512_i32gather_epi64(_mm512_extracti64x4_epi64(o, 1), base, 1);
+    const __m512i even =
+        _mm512_setr_epi32(0, 2, 4, 6, 8, 10, 12, 14, 16, 18, 20, 22, 24, 26, 28, 30);
+    const __m512i odd =
+        _mm512_setr_epi32(1, 3, 5, 7, 9, 11, 13, 15, 17, 19, 21, 23, 25, 27, 29, 31);
+    first = IV<N>(reinterpret_cast<vi_t<N>>(_mm512_permutex2var_epi32(lo, even, hi)));
+    second = IV<N>(reinterpret_cast<vi_t<N>>(_mm512_permutex2var_epi32(lo, odd, hi)));
+  } else {
+    const __m256i o = reinterpret_cast<__m256i>(off.v);
+    const __m256i lo = _mm256_i32gather_epi64(base, _mm256_castsi256_si128(o), 1);
+    const __m256i hi = _mm256_i32gather_epi64(base, _mm256_extracti128_si256(o, 1), 1);
+    // Per 128-bit half: lo's two even (odd) words, then hi's; then the halves' middle words swap.
+    const __m256 lf = _mm256_castsi256_ps(lo), hf = _mm256_castsi256_ps(hi);
+    const __m256i e = _mm256_castps_si256(_mm256_shuffle_ps(lf, hf, _MM_SHUFFLE(2, 0, 2, 0)));
+    const __m256i d = _mm256_castps_si256(_mm256_shuffle_ps(lf, hf, _MM_SHUFFLE(3, 1, 3, 1)));
+    first = IV<N>(reinterpret_cast<vi_t<N>>(_mm256_permute4x64_epi64(e, _MM_SHUFFLE(3, 1, 2, 0))));
+    second = IV<N>(reinterpret_cast<vi_t<N>>(_mm256_permute4x64_epi64(d, _MM_SHUFFLE(3, 1, 2, 0))));
+  }
+}
+#endif
+
 // The formats of the lane-parallel path: bytes a texel and channels stored.
 constexpr int texel_bytes(TexFormat f) {
   return f == TexFormat::kRG8 ? 2 : (f == TexFormat::kR8 ? 1 : 4);
@@ -306,8 +340,9 @@ template <TexFormat kFmt, int kUsed, class F>
     if (src.gather) {
       gathered = true;
       const MipLevel& level = *src.level;
-      // No lane on the wrap seam: each row's two texels in one word (R8, RG8).
-      const bool pairs = kB <= 2 && all(x1 == x0 + I(1));
+      // No lane on the wrap seam: each row's two texels in one word (R8, RG8) or one 8-byte
+      // gather (4-byte texels).
+      const bool pairs = all(x1 == x0 + I(1));
       if (pairs) {
         if constexpr (kB <= 2) {
           constexpr int32_t kMask = (1 << (8 * kB)) - 1;
@@ -317,6 +352,9 @@ template <TexFormat kFmt, int kUsed, class F>
           t10 = (top >> (8 * kB)) & I(kMask);
           t01 = bottom & I(kMask);
           t11 = (bottom >> (8 * kB)) & I(kMask);
+        } else {
+          gather_pair4(level, r0 + x0, t00, t10);
+          gather_pair4(level, r1 + x0, t01, t11);
         }
       } else {
         t00 = gather_word<kB>(level, r0 + x0);
@@ -443,13 +481,14 @@ inline V4<F> sample_lod_lanes(const Texture& t, const SamplerState& s, V2<F> uv,
   }
 }
 
-// GL's LOD from uv derivatives (texture.cpp's compute_lod) with vlog2.
+// GL's LOD from uv derivatives (texture.cpp's compute_lod) with vlog2. rho = max(|a|, |b|) is
+// taken as sqrt(max(|a|^2, |b|^2)): the same bits (a correctly rounded sqrt never reverses an
+// order, and vmax keeps the first operand on ties and NaN) for one square root instead of two.
 template <class F>
 inline F lod_from_grad(const Texture& t, V2<F> dx, V2<F> dy) {
   const F w(static_cast<float>(t.width())), h(static_cast<float>(t.height()));
   const F ax = dx.x * w, ay = dx.y * h, bx = dy.x * w, by = dy.y * h;
-  const F px = vsqrt(ax * ax + ay * ay), py = vsqrt(bx * bx + by * by);
-  const F rho = vmax(px, py);
+  const F rho = vsqrt(vmax(ax * ax + ay * ay, bx * bx + by * by));
   const F lod = vmin(vmax(vlog2(rho), F(-64.0f)), F(64.0f));
   return select(rho == rho, select(rho <= F(0.0f), F(-64.0f), lod), F(0.0f));
 }
@@ -465,9 +504,44 @@ inline void set_lane4(V4<F>& r, int i, const glm::vec4& c) {
 
 }  // namespace detail
 
+// The LOD texture_grad's lane path computed last (detail::lod_from_grad), for the texture size
+// and uv derivatives it was computed from: a kernel reads several textures with the same
+// derivatives (colour, normal map, ...), mostly of one size, and the LOD (two square-root-class
+// operations and a logarithm on the way to the first texel load) is then computed once a packet.
+// Reuse is decided on the inputs' bits, so it gives the bits of computing it again.
+template <class F>
+struct GradLodMemo {
+  // User-provided, so that it is compiled for this namespace's target (plugins/shading.h,
+  // ShadeOut).
+  GradLodMemo() {}
+  int width = 0, height = 0;  // 0: nothing kept yet
+  V2<F> dx, dy;
+  F lod;
+
+  // The LOD for texture t and derivatives dx, dy: kept, or computed and kept.
+  const F& lod_for(const Texture& t, const V2<F>& dx_now, const V2<F>& dy_now) {
+    const auto same = [](const F& a, const F& b) { return all(bits_of(a) == bits_of(b)); };
+    if (width != t.width() || height != t.height() || !same(dx.x, dx_now.x) ||
+        !same(dx.y, dx_now.y) || !same(dy.x, dy_now.x) || !same(dy.y, dy_now.y)) {
+      width = t.width();
+      height = t.height();
+      dx = dx_now;
+      dy = dy_now;
+      lod = detail::lod_from_grad(t, dx_now, dy_now);
+    }
+    return lod;
+  }
+};
+
+// Whether texture_grad reads t through the lane path at a LOD from detail::lod_from_grad (else
+// it reads lane by lane through the scalar sampler, anisotropic filtering included).
+inline bool grad_reads_at_lod(const Texture& t, const SamplerState& s) {
+  return s.filter != Filter::kAnisotropic && detail::vector_sampling_ok(t, s);
+}
+
 template <class F>
 inline V4<F> texture_grad(const Texture& t, const SamplerState& s, V2<F> uv, V2<F> dx, V2<F> dy) {
-  if (s.filter != Filter::kAnisotropic && detail::vector_sampling_ok(t, s))
+  if (grad_reads_at_lod(t, s))
     return detail::sample_lod_lanes<4>(t, s, uv, detail::lod_from_grad(t, dx, dy));
   V4<F> r;
   for (int i = 0; i < lane_width<F>; ++i) {

@@ -117,6 +117,11 @@ void prepare_r_lod(const Texture& t, const SamplerState& s, const float* lod, RL
   }
 }
 
+RELIEF_LANE_FLATTEN V4<FN> texture_lod_lanes(const Texture& t, const SamplerState& s,
+                                             const V2<FN>& uv, const FN& lod) {
+  return detail::sample_lod_lanes<4>(t, s, uv, lod);
+}
+
 RELIEF_LANE_FLATTEN V4<FN> texture_grad_lanes(const Texture& t, const SamplerState& s,
                                               const V2<FN>& uv, const V2<FN>& dx,
                                               const V2<FN>& dy) {

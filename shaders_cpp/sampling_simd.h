@@ -89,6 +89,22 @@ inline V4<F> texture_grad_call(const Texture& t, const SamplerState& s, const V2
     return texture_grad(t, s, uv, dx, dy);
 }
 
+// texture_lod (4 channels) over the native lanes; t and s must be on the lane path
+// (grad_reads_at_lod).
+V4<FN> texture_lod_lanes(const Texture& t, const SamplerState& s, const V2<FN>& uv, const FN& lod);
+
+// texture_grad_call with the LOD kept in `memo` between reads (GradLodMemo): the same bits.
+template <class F>
+inline V4<F> texture_grad_call(const Texture& t, const SamplerState& s, const V2<F>& uv,
+                               const V2<F>& dx, const V2<F>& dy, GradLodMemo<F>& memo) {
+  if (!grad_reads_at_lod(t, s)) return texture_grad_call(t, s, uv, dx, dy);
+  const F& lod = memo.lod_for(t, dx, dy);
+  if constexpr (std::is_same_v<F, FN>)
+    return texture_lod_lanes(t, s, uv, lod);
+  else
+    return texture_lod(t, s, uv, lod);
+}
+
 }  // namespace HWY_NAMESPACE
 }  // namespace relief
 HWY_AFTER_NAMESPACE();
