@@ -25,20 +25,6 @@ struct Rasterizer::Impl {
   int tiles_x = 0, tiles_y = 0, tile = 64;
 
   TileGrid grid() const { return {setup.runs, tile, tiles_x}; }
-
-  // Clears one tile's rows of every plane the target has (a depth-only target has no colour).
-  void clear_tile(Framebuffer& fb, const ClearValues& c, int tile) const {
-    int x0, y0, x1, y1;
-    tile_rect(grid(), fb, tile, x0, y0, x1, y1);
-    const size_t n = static_cast<size_t>(x1 - x0 + 1);
-    for (int y = y0; y <= y1; ++y) {
-      const size_t row = static_cast<size_t>(y) * fb.width + x0;
-      if (!fb.color.pixels.empty()) std::fill_n(fb.color.pixels.begin() + row, n, c.color);
-      if (!fb.depth.values.empty()) std::fill_n(fb.depth.values.begin() + row, n, c.depth);
-      if (!fb.aov.empty())
-        std::fill_n(fb.aov.begin() + row * kAovTotalChannels, n * kAovTotalChannels, 0.0f);
-    }
-  }
 };
 
 Rasterizer::Rasterizer(ThreadPool& pool, RasterConfig config)
@@ -72,9 +58,7 @@ RasterStats Rasterizer::draw(Framebuffer& fb, std::span<const DrawCall> draws,
   }
   const TileGrid grid = im.grid();
   pool_.run(im.tiles_x * im.tiles_y, [&](int tile, int worker) {
-    Worker& w = *im.workers[worker];
-    if (clear) im.clear_tile(fb, *clear, tile);
-    raster_tile(grid, w, fb, draws, tile);
+    raster_tile(grid, *im.workers[worker], fb, draws, tile, clear);
   });
   for (auto& w : im.workers) {
     im.stats.work += w->counters;

@@ -25,6 +25,44 @@ namespace {
 
 typedef float vf __attribute__((vector_size(32)));
 typedef int32_t vi __attribute__((vector_size(32)));
+typedef float vf4 __attribute__((vector_size(16)));
+typedef int32_t vi4 __attribute__((vector_size(16)));
+
+// Channel c's four lanes of quad q of the shader's output, NaN and infinities read as 0 (the
+// scalar write-out's std::isfinite test: exponent bits all ones).
+vf4 quad_channel(const FragmentOutput& o, int c, int q) {
+  vf4 v;
+  std::memcpy(&v, &o.color[c][q * 4], sizeof v);
+  vi4 bits;
+  std::memcpy(&bits, &v, sizeof v);
+  const vi4 finite = (bits & 0x7f800000) != 0x7f800000;
+  return reinterpret_cast<vf4>(bits & finite);
+}
+
+// Writes quad q, every lane covered and kept, of a draw that tests depth before shading and
+// writes colour without blending or AOVs: the values of the per-lane loop below (the same
+// floats), as two 32-byte rows of colour and two 8-byte rows of depth.
+void write_full_quad(const FragmentPacket& p, const FragmentOutput& o, Worker& w, Framebuffer& fb,
+                     const DrawCall& dc, int q) {
+  const int x = w.qx[q], y = w.qy[q];
+  if (dc.depth_write) {
+    std::memcpy(&fb.depth.at(x, y), &p.frag_z[q * 4], 2 * sizeof(float));
+    std::memcpy(&fb.depth.at(x, y + 1), &p.frag_z[q * 4 + 2], 2 * sizeof(float));
+  }
+  // Lanes (x, y), (x + 1, y), (x, y + 1), (x + 1, y + 1) from channel-major to pixel-major.
+  const vf4 r = quad_channel(o, 0, q), g = quad_channel(o, 1, q);
+  const vf4 b = quad_channel(o, 2, q), a = quad_channel(o, 3, q);
+  const vf4 rg01 = __builtin_shufflevector(r, g, 0, 4, 1, 5);
+  const vf4 ba01 = __builtin_shufflevector(b, a, 0, 4, 1, 5);
+  const vf4 rg23 = __builtin_shufflevector(r, g, 2, 6, 3, 7);
+  const vf4 ba23 = __builtin_shufflevector(b, a, 2, 6, 3, 7);
+  const vf4 px[4] = {__builtin_shufflevector(rg01, ba01, 0, 1, 4, 5),
+                     __builtin_shufflevector(rg01, ba01, 2, 3, 6, 7),
+                     __builtin_shufflevector(rg23, ba23, 0, 1, 4, 5),
+                     __builtin_shufflevector(rg23, ba23, 2, 3, 6, 7)};
+  std::memcpy(&fb.color.at(x, y), &px[0], 2 * sizeof(vf4));
+  std::memcpy(&fb.color.at(x, y + 1), &px[2], 2 * sizeof(vf4));
+}
 
 void flush(Worker& w, Framebuffer& fb, const DrawCall& dc) {
   FragmentPacket& p = w.packet;
@@ -34,8 +72,15 @@ void flush(Worker& w, Framebuffer& fb, const DrawCall& dc) {
   dc.shader(dc.user, p, o, w.counters);
   w.quads += p.num_quads;
   const bool write_aov = dc.aov_write && fb.aov_mask != 0;
+  const bool plain =
+      dc.depth_test == DepthTest::kEarly && dc.color_write && !dc.blend && !write_aov;
   for (int q = 0; q < p.num_quads; ++q) {
     const uint8_t live = p.coverage[q] & ~o.discard[q];
+    if (plain && live == 0xf) {
+      w.counters.fragments += 4;
+      write_full_quad(p, o, w, fb, dc, q);
+      continue;
+    }
     for (int l = 0; l < 4; ++l) {
       if (!((p.coverage[q] >> l) & 1)) continue;
       ++w.counters.fragments;
@@ -80,6 +125,17 @@ void flush(Worker& w, Framebuffer& fb, const DrawCall& dc) {
     }
   }
   p.num_quads = 0;
+}
+
+// Bit l set where lane l of the comparison result m (all ones or zero) is set.
+unsigned lane_bits(vi m) {
+#if HWY_ARCH_X86 && HWY_TARGET <= HWY_AVX2
+  return static_cast<unsigned>(_mm256_movemask_ps(reinterpret_cast<__m256>(m)));
+#else
+  unsigned bits = 0;
+  for (int l = 0; l < 8; ++l) bits |= static_cast<unsigned>(m[l] & 1) << l;
+  return bits;
+#endif
 }
 
 // Coverage of the quad whose top-left pixel has edge values e[k]: bit l set when lane l is
@@ -159,21 +215,19 @@ void raster_triangle(const float* planes, Worker& w, Framebuffer& fb, const Draw
         // tile's edge into pixels another thread is clearing or writing (ThreadSanitizer found
         // it); those lanes are masked off, so what they read does not matter.
         if (qx + 3 <= x1 && qy + 1 <= y1) {
-          d = vf{r0[0], r0[1], r1[0], r1[1], r0[2], r0[3], r1[2], r1[3]};
+          vf4 top, bottom;
+          std::memcpy(&top, r0, sizeof top);
+          std::memcpy(&bottom, r1, sizeof bottom);
+          d = __builtin_shufflevector(top, bottom, 0, 1, 4, 5, 2, 3, 6, 7);
         } else {
           for (int l = 0; l < 8; ++l) {
             const int x = qx + (l & 1) + (l >> 2) * 2, y = qy + ((l >> 1) & 1);
             d[l] = x <= x1 && y <= y1 ? depth[size_t(y) * dw + x] : 1.0f;
           }
         }
-        const vi pass = z > d;
-        uint8_t bits0 = 0, bits1 = 0;
-        for (int l = 0; l < 4; ++l) {
-          bits0 |= (pass[l] & 1) << l;
-          bits1 |= (pass[l + 4] & 1) << l;
-        }
-        m0 &= bits0;
-        m1 &= bits1;
+        const unsigned bits = lane_bits(z > d);
+        m0 &= bits & 0xf;
+        m1 &= bits >> 4;
         if (!(m0 | m1)) continue;
       }
       vf iw = (pl[3] + pl[4] * fx) + pl[5] * fy;
@@ -214,11 +268,45 @@ void raster_triangle(const float* planes, Worker& w, Framebuffer& fb, const Draw
 
 }  // namespace
 
+// Sets n values from dst on to v, in stores as wide as the target's vectors (the clear runs
+// ahead of the tile's first reads and is bound by how many stores to lines not yet in the cache
+// the core keeps in flight: one wide store a line holds more lines in flight than four narrow
+// ones).
+template <class T>
+void fill_wide(T* dst, size_t n, const T& v) {
+  constexpr size_t kBytes = HWY_MAX_BYTES;  // the target's widest vector
+  constexpr size_t kPer = kBytes / sizeof(T);
+  if constexpr (kPer >= 2 && kBytes % sizeof(T) == 0) {
+    T block[kPer];
+    std::fill_n(block, kPer, v);
+    size_t i = 0;
+    for (; i + kPer <= n; i += kPer) std::memcpy(dst + i, block, kBytes);
+    std::fill_n(dst + i, n - i, v);
+  } else {
+    std::fill_n(dst, n, v);
+  }
+}
+
+// Clears the tile's rows [x0, x1] x [y0, y1] of every plane the target has (a depth-only target
+// has no colour).
+void clear_rect(Framebuffer& fb, const ClearValues& c, int x0, int y0, int x1, int y1) {
+  const size_t n = static_cast<size_t>(x1 - x0 + 1);
+  for (int y = y0; y <= y1; ++y) {
+    const size_t row = static_cast<size_t>(y) * fb.width + x0;
+    if (!fb.color.pixels.empty()) fill_wide(fb.color.pixels.data() + row, n, c.color);
+    if (!fb.depth.values.empty()) fill_wide(fb.depth.values.data() + row, n, c.depth);
+    if (!fb.aov.empty())
+      fill_wide(fb.aov.data() + row * kAovTotalChannels, n * kAovTotalChannels, 0.0f);
+  }
+}
+
 // flatten: the traversal inlined into one function (speed only; see plugins/shading.h).
 RELIEF_LANE_FLATTEN void raster_tile(const TileGrid& g, Worker& w, Framebuffer& fb,
-                                     std::span<const DrawCall> draws, int tile) {
+                                     std::span<const DrawCall> draws, int tile,
+                                     const ClearValues* clear) {
   int x0, y0, x1, y1;
   tile_rect(g, fb, tile, x0, y0, x1, y1);
+  if (clear) clear_rect(fb, *clear, x0, y0, x1, y1);
   for (const TileBins& r : g.runs)
     for (uint32_t i = r.start[tile]; i < r.start[tile + 1]; ++i) {
       const SetupTriangle& t = r.tris[r.items[i]];
@@ -237,8 +325,8 @@ namespace relief::raster_detail {
 HWY_EXPORT(raster_tile);
 
 void raster_tile(const TileGrid& g, Worker& w, Framebuffer& fb, std::span<const DrawCall> draws,
-                 int tile) {
-  HWY_DYNAMIC_DISPATCH(raster_tile)(g, w, fb, draws, tile);
+                 int tile, const ClearValues* clear) {
+  HWY_DYNAMIC_DISPATCH(raster_tile)(g, w, fb, draws, tile, clear);
 }
 
 }  // namespace relief::raster_detail

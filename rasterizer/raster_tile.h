@@ -68,9 +68,9 @@ inline void tile_rect(const TileGrid& g, const Framebuffer& fb, int tile, int& x
   y1 = std::min(y0 + g.tile, fb.height) - 1;
 }
 
-// Rasterizes tile `tile`: its triangles in submission order, through the draws' shaders, at the
-// SIMD level in use.
+// Rasterizes tile `tile`: its pixels cleared to `clear` (when given), then its triangles in
+// submission order, through the draws' shaders, at the SIMD level in use.
 void raster_tile(const TileGrid& g, Worker& w, Framebuffer& fb, std::span<const DrawCall> draws,
-                 int tile);
+                 int tile, const ClearValues* clear);
 
 }  // namespace relief::raster_detail

@@ -4,6 +4,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
+#include <limits>
 #include <random>
 
 #include <glm/geometric.hpp>
@@ -372,6 +374,86 @@ TEST(Pipeline, EarlyAndLateDepthAgreeAndReversedZOrders) {
     ASSERT_EQ(cons.color.pixels[i], late2.color.pixels[i]);
     ASSERT_EQ(cons.depth.values[i], late2.depth.values[i]);
   }
+}
+
+// A colour per pixel and channel from the pixel's position, with NaN, infinities and -0 in some
+// channels; depth the polygon's.
+void pattern_shader(const void*, const FragmentPacket& p, FragmentOutput& out, WorkCounters&) {
+  const float inf = std::numeric_limits<float>::infinity();
+  const float special[4] = {std::numeric_limits<float>::quiet_NaN(), inf, -inf, -0.0f};
+  for (int l = 0; l < p.num_quads * 4; ++l) {
+    const int x = static_cast<int>(p.frag_x[l]), y = static_cast<int>(p.frag_y[l]);
+    for (int k = 0; k < 4; ++k) {
+      const int pick = (x + 2 * y + 3 * k) % 11;
+      out.color[k][l] = pick < 4 ? special[pick] : static_cast<float>((x * 7 + y * 13) * 4 + k);
+    }
+    out.depth[l] = p.frag_z[l];
+  }
+}
+
+// Fully covered quads of a draw that tests depth early and writes colour without blending are
+// written four lanes at a time (raster_tile.cpp write_full_quad); every other fragment lane by
+// lane. Both must store each lane's colour at its own pixel, non-finite channels as 0, and the
+// same depth: the early draw against the same triangles through the per-lane path (a
+// conservative depth test, the shader's depth being the polygon's), bit for bit.
+TEST(Pipeline, QuadWritesEqualLaneWrites) {
+  ThreadPool pool(2);
+  std::vector<glm::vec4> clip;
+  std::vector<uint32_t> idx;
+  const float depth[3] = {0.3f, 0.7f, 0.5f};
+  for (int t = 0; t < 3; ++t) {
+    const float ox = -0.5f + 0.4f * t;
+    clip.push_back({ox - 0.6f, -0.7f, depth[t], 1});
+    clip.push_back({ox + 0.7f, -0.6f, depth[t], 1});
+    clip.push_back({ox, 0.8f, depth[t], 1});
+    idx.insert(idx.end(), {uint32_t(3 * t), uint32_t(3 * t + 1), uint32_t(3 * t + 2)});
+  }
+  std::vector<float> vary;
+  auto render = [&](DepthTest mode, RasterStats* stats) {
+    DrawCall dc;
+    dc.clip = clip;
+    dc.varyings = vary;
+    dc.indices = idx;
+    dc.depth_test = mode;
+    dc.shader = &pattern_shader;
+    Framebuffer fb(kW, kH);
+    Rasterizer r(pool, RasterConfig{32});
+    const ClearValues clear{glm::vec4(0.25f, 0.5f, 0.75f, 1.0f), 0.0f};
+    *stats = r.draw(fb, std::span<const DrawCall>(&dc, 1), &clear);
+    return fb;
+  };
+  RasterStats quads, lanes;
+  const Framebuffer a = render(DepthTest::kEarly, &quads);
+  const Framebuffer b = render(DepthTest::kConservative, &lanes);
+  EXPECT_EQ(quads.work.fragments, lanes.work.fragments);
+  ASSERT_EQ(a.color.pixels.size(), b.color.pixels.size());
+  EXPECT_EQ(std::memcmp(a.color.pixels.data(), b.color.pixels.data(),
+                        a.color.pixels.size() * sizeof(glm::vec4)),
+            0);
+  EXPECT_EQ(std::memcmp(a.depth.values.data(), b.depth.values.data(),
+                        a.depth.values.size() * sizeof(float)),
+            0);
+  // What was drawn: each covered pixel holds its own pattern, NaN and infinities as 0.
+  int drawn = 0, zeroed = 0;
+  for (int y = 0; y < kH; ++y)
+    for (int x = 0; x < kW; ++x) {
+      if (a.depth.at(x, y) == 0.0f) {
+        ASSERT_EQ(a.color.at(x, y), glm::vec4(0.25f, 0.5f, 0.75f, 1.0f));
+        continue;
+      }
+      ++drawn;
+      for (int k = 0; k < 4; ++k) {
+        const int pick = (x + 2 * y + 3 * k) % 11;
+        const float want =
+            pick < 3 ? 0.0f : (pick == 3 ? -0.0f : static_cast<float>((x * 7 + y * 13) * 4 + k));
+        const float got = a.color.at(x, y)[k];
+        ASSERT_EQ(std::signbit(got), std::signbit(want)) << x << "," << y;
+        ASSERT_EQ(got, want) << x << "," << y << " channel " << k;
+        zeroed += pick < 3;
+      }
+    }
+  EXPECT_GT(drawn, 5000);
+  EXPECT_GT(zeroed, 1000);
 }
 
 TEST(Pipeline, BackFaceCulling) {

@@ -143,6 +143,68 @@ TEST(Sampling, GradEntryMatchesInlineTextureGrad) {
   EXPECT_EQ(checked, 4 * 2 * 3 * 64 * 8);
 }
 
+// Reads through a GradLodMemo (the LOD kept between a packet's reads with the same derivatives
+// and texture size) give texture_grad's bits: textures of one size and of others, derivatives
+// kept, changed in every lane or in one lane only, the anisotropic filter (which never uses the
+// memo) between them; float and F8.
+template <class F>
+void check_memo_reads(const std::vector<const Texture*>& textures, int lanes, uint32_t seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<float> uvd(-2.0f, 2.0f), dd(-0.1f, 0.1f);
+  std::uniform_int_distribution<int> pick(0, static_cast<int>(textures.size()) - 1);
+  auto random_lanes = [&](F& v, float lo, float hi) {
+    std::uniform_real_distribution<float> d(lo, hi);
+    for (int i = 0; i < lanes; ++i) HWY_NAMESPACE::set_lane(v, i, d(rng));
+  };
+  GradLodMemo<F> memo;
+  V2<F> dx, dy;
+  random_lanes(dx.x, -0.1f, 0.1f);
+  random_lanes(dx.y, -0.1f, 0.1f);
+  random_lanes(dy.x, -0.1f, 0.1f);
+  random_lanes(dy.y, -0.1f, 0.1f);
+  int reused = 0;
+  for (int n = 0; n < 600; ++n) {
+    const int change = n % 5;  // 0: new derivatives, 1: one lane's dy.y changed, else kept
+    if (change == 0) {
+      random_lanes(dx.x, -0.1f, 0.1f);
+      random_lanes(dy.y, -0.1f, 0.1f);
+    } else if (change == 1) {
+      HWY_NAMESPACE::set_lane(dy.y, n % lanes, dd(rng));
+    }
+    const Texture& t = *textures[pick(rng)];
+    SamplerState s;
+    s.filter = n % 7 == 0 ? Filter::kAnisotropic : Filter::kTrilinear;
+    V2<F> uv;
+    random_lanes(uv.x, -2.0f, 2.0f);
+    random_lanes(uv.y, -2.0f, 2.0f);
+    const bool kept = memo.width == t.width() && memo.height == t.height();
+    const V4<F> a = texture_grad(t, s, uv, dx, dy);
+    const V4<F> b = texture_grad_call(t, s, uv, dx, dy, memo);
+    reused += kept && change > 1 && s.filter != Filter::kAnisotropic;
+    for (int i = 0; i < lanes; ++i) {
+      ASSERT_EQ(float_bits(HWY_NAMESPACE::lane(a.x, i)), float_bits(HWY_NAMESPACE::lane(b.x, i)))
+          << n;
+      ASSERT_EQ(float_bits(HWY_NAMESPACE::lane(a.y, i)), float_bits(HWY_NAMESPACE::lane(b.y, i)))
+          << n;
+      ASSERT_EQ(float_bits(HWY_NAMESPACE::lane(a.z, i)), float_bits(HWY_NAMESPACE::lane(b.z, i)))
+          << n;
+      ASSERT_EQ(float_bits(HWY_NAMESPACE::lane(a.w, i)), float_bits(HWY_NAMESPACE::lane(b.w, i)))
+          << n;
+    }
+  }
+  EXPECT_GT(reused, 50);  // the memo was used, not only refilled
+}
+
+TEST(Sampling, GradLodMemoGivesTextureGradBits) {
+  const Texture a = random_texture(TexFormat::kRGBA8, 64, 64, ColorSpace::kSRGB, 21);
+  const Texture b = random_texture(TexFormat::kRGBA8, 64, 64, ColorSpace::kLinear, 22);
+  const Texture c = random_texture(TexFormat::kRGBA8, 32, 128, ColorSpace::kLinear, 23);
+  const Texture d = random_texture(TexFormat::kR8, 256, 256, ColorSpace::kLinear, 24);
+  const std::vector<const Texture*> textures = {&a, &b, &c, &d};
+  check_memo_reads<F8>(textures, 8, 31);
+  check_memo_reads<float>(textures, 1, 32);
+}
+
 // A prepared read (RLodPlan: levels chosen once for the lanes' LODs, a read entry specialised for
 // format and filter) gives texture_r_lod's bits for every format, filter and wrap, power-of-two
 // and other sizes, with the two quads' LODs on one level (the specialised reads) and on
