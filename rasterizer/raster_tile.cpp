@@ -14,6 +14,9 @@
 #include "rasterizer/raster_tile.h"
 
 #include <hwy/highway.h>
+#if HWY_ARCH_X86
+#include <immintrin.h>  // _mm_stream_ps, _mm_sfence (SSE: every x86-64 target)
+#endif
 
 #include "base/simd_flatten.h"
 
@@ -27,6 +30,24 @@ typedef float vf __attribute__((vector_size(32)));
 typedef int32_t vi __attribute__((vector_size(32)));
 typedef float vf4 __attribute__((vector_size(16)));
 typedef int32_t vi4 __attribute__((vector_size(16)));
+
+// Where a tile's fragments land: pixel (x, y) is element (y - y0) * stride + (x - x0) of each
+// plane. Either the framebuffer's own planes (origin 0, 0, stride its width) or the worker's
+// tile-sized copies, which raster_tile fills before the tile's triangles (cleared, or copied from
+// the framebuffer) and streams back after them: drawn there, a tile's pixels stay in the core's
+// cache from clear to last write, and the framebuffer's lines are written once without being
+// read first.
+struct TilePixels {
+  glm::vec4* color = nullptr;  // null: the target has no colour
+  float* depth = nullptr;
+  size_t stride = 0;
+  int x0 = 0, y0 = 0;
+  size_t index(int x, int y) const {
+    return static_cast<size_t>(y - y0) * stride + static_cast<size_t>(x - x0);
+  }
+  float& depth_at(int x, int y) const { return depth[index(x, y)]; }
+  glm::vec4& color_at(int x, int y) const { return color[index(x, y)]; }
+};
 
 // Channel c's four lanes of quad q of the shader's output, NaN and infinities read as 0 (the
 // scalar write-out's std::isfinite test: exponent bits all ones).
@@ -42,12 +63,12 @@ vf4 quad_channel(const FragmentOutput& o, int c, int q) {
 // Writes quad q, every lane covered and kept, of a draw that tests depth before shading and
 // writes colour without blending or AOVs: the values of the per-lane loop below (the same
 // floats), as two 32-byte rows of colour and two 8-byte rows of depth.
-void write_full_quad(const FragmentPacket& p, const FragmentOutput& o, Worker& w, Framebuffer& fb,
-                     const DrawCall& dc, int q) {
+void write_full_quad(const FragmentPacket& p, const FragmentOutput& o, const Worker& w,
+                     const TilePixels& px, const DrawCall& dc, int q) {
   const int x = w.qx[q], y = w.qy[q];
   if (dc.depth_write) {
-    std::memcpy(&fb.depth.at(x, y), &p.frag_z[q * 4], 2 * sizeof(float));
-    std::memcpy(&fb.depth.at(x, y + 1), &p.frag_z[q * 4 + 2], 2 * sizeof(float));
+    std::memcpy(&px.depth_at(x, y), &p.frag_z[q * 4], 2 * sizeof(float));
+    std::memcpy(&px.depth_at(x, y + 1), &p.frag_z[q * 4 + 2], 2 * sizeof(float));
   }
   // Lanes (x, y), (x + 1, y), (x, y + 1), (x + 1, y + 1) from channel-major to pixel-major.
   const vf4 r = quad_channel(o, 0, q), g = quad_channel(o, 1, q);
@@ -56,15 +77,15 @@ void write_full_quad(const FragmentPacket& p, const FragmentOutput& o, Worker& w
   const vf4 ba01 = __builtin_shufflevector(b, a, 0, 4, 1, 5);
   const vf4 rg23 = __builtin_shufflevector(r, g, 2, 6, 3, 7);
   const vf4 ba23 = __builtin_shufflevector(b, a, 2, 6, 3, 7);
-  const vf4 px[4] = {__builtin_shufflevector(rg01, ba01, 0, 1, 4, 5),
-                     __builtin_shufflevector(rg01, ba01, 2, 3, 6, 7),
-                     __builtin_shufflevector(rg23, ba23, 0, 1, 4, 5),
-                     __builtin_shufflevector(rg23, ba23, 2, 3, 6, 7)};
-  std::memcpy(&fb.color.at(x, y), &px[0], 2 * sizeof(vf4));
-  std::memcpy(&fb.color.at(x, y + 1), &px[2], 2 * sizeof(vf4));
+  const vf4 pixel[4] = {__builtin_shufflevector(rg01, ba01, 0, 1, 4, 5),
+                        __builtin_shufflevector(rg01, ba01, 2, 3, 6, 7),
+                        __builtin_shufflevector(rg23, ba23, 0, 1, 4, 5),
+                        __builtin_shufflevector(rg23, ba23, 2, 3, 6, 7)};
+  std::memcpy(&px.color_at(x, y), &pixel[0], 2 * sizeof(vf4));
+  std::memcpy(&px.color_at(x, y + 1), &pixel[2], 2 * sizeof(vf4));
 }
 
-void flush(Worker& w, Framebuffer& fb, const DrawCall& dc) {
+void flush(Worker& w, const TilePixels& px, Framebuffer& fb, const DrawCall& dc) {
   FragmentPacket& p = w.packet;
   if (p.num_quads == 0) return;
   FragmentOutput& o = w.out;
@@ -78,7 +99,7 @@ void flush(Worker& w, Framebuffer& fb, const DrawCall& dc) {
     const uint8_t live = p.coverage[q] & ~o.discard[q];
     if (plain && live == 0xf) {
       w.counters.fragments += 4;
-      write_full_quad(p, o, w, fb, dc, q);
+      write_full_quad(p, o, w, px, dc, q);
       continue;
     }
     for (int l = 0; l < 4; ++l) {
@@ -90,7 +111,7 @@ void flush(Worker& w, Framebuffer& fb, const DrawCall& dc) {
       }
       const int lane = q * 4 + l;
       const int x = w.qx[q] + (l & 1), y = w.qy[q] + (l >> 1);
-      float& stored = fb.depth.at(x, y);
+      float& stored = px.depth_at(x, y);
       float z = p.frag_z[lane];
       if (dc.depth_test != DepthTest::kEarly) {
         z = o.depth[lane];
@@ -106,7 +127,7 @@ void flush(Worker& w, Framebuffer& fb, const DrawCall& dc) {
         glm::vec4 c(o.color[0][lane], o.color[1][lane], o.color[2][lane], o.color[3][lane]);
         for (int k = 0; k < 4; ++k)
           if (!std::isfinite(c[k])) c[k] = 0.0f;
-        glm::vec4& dst = fb.color.at(x, y);
+        glm::vec4& dst = px.color_at(x, y);
         if (dc.blend) {
           const float a = std::clamp(c.a, 0.0f, 1.0f), keep = 1.0f - a;
           dst = glm::vec4(c.r * a + dst.r * keep, c.g * a + dst.g * keep, c.b * a + dst.b * keep,
@@ -153,8 +174,9 @@ uint8_t quad_mask(const SetupTriangle& t, const int64_t e[3]) {
 // Walks the part of triangle t inside the tile [tx0, tx1] x [ty0, ty1], two quads (8 lanes) at
 // a time: coverage from the exact edge functions (skipped when the whole rectangle is inside),
 // depth and varyings from the float planes, early depth test, packets of up to 16 quads.
-void raster_triangle(const float* planes, Worker& w, Framebuffer& fb, const DrawCall& dc,
-                     const SetupTriangle& t, int tx0, int ty0, int tx1, int ty1) {
+void raster_triangle(const float* planes, Worker& w, const TilePixels& px, Framebuffer& fb,
+                     const DrawCall& dc, const SetupTriangle& t, int tx0, int ty0, int tx1,
+                     int ty1) {
   const int nv = dc.num_varyings;
   FragmentPacket& p = w.packet;
   p.num_quads = 0;
@@ -180,8 +202,6 @@ void raster_triangle(const float* planes, Worker& w, Framebuffer& fb, const Draw
   const float* pl = planes + t.plane;
   const vf kDx = {0, 1, 0, 1, 2, 3, 2, 3}, kDy = {0, 0, 1, 1, 0, 0, 1, 1};
   const vi kHigh = {4, 5, 6, 7, 4, 5, 6, 7};
-  const int dw = fb.depth.width;
-  float* depth = fb.depth.values.data();
   for (int qy = y0; qy <= y1; qy += 2) {
     const uint8_t rowm = qy + 1 <= y1 ? 0xf : 0x3;
     int64_t erow[3];
@@ -208,8 +228,8 @@ void raster_triangle(const float* planes, Worker& w, Framebuffer& fb, const Draw
       z = z < 0.0f ? 0.0f : z;
       z = z > 1.0f ? 1.0f : z;
       if (early) {
-        const float* r0 = depth + size_t(qy) * dw + qx;
-        const float* r1 = r0 + dw;
+        const float* r0 = &px.depth_at(qx, qy);
+        const float* r1 = r0 + px.stride;
         vf d;
         // Only pixels of this tile (x1, y1 are clipped to it): a quad pair may reach past the
         // tile's edge into pixels another thread is clearing or writing (ThreadSanitizer found
@@ -222,7 +242,7 @@ void raster_triangle(const float* planes, Worker& w, Framebuffer& fb, const Draw
         } else {
           for (int l = 0; l < 8; ++l) {
             const int x = qx + (l & 1) + (l >> 2) * 2, y = qy + ((l >> 1) & 1);
-            d[l] = x <= x1 && y <= y1 ? depth[size_t(y) * dw + x] : 1.0f;
+            d[l] = x <= x1 && y <= y1 ? px.depth_at(x, y) : 1.0f;
           }
         }
         const unsigned bits = lane_bits(z > d);
@@ -233,7 +253,7 @@ void raster_triangle(const float* planes, Worker& w, Framebuffer& fb, const Draw
       vf iw = (pl[3] + pl[4] * fx) + pl[5] * fy;
       iw = iw < 1e-30f ? 1e-30f : iw;  // helper lanes far outside may pass the horizon
       const vf wv = 1.0f / iw;
-      if (p.num_quads > kPacketQuads - 2) flush(w, fb, dc);
+      if (p.num_quads > kPacketQuads - 2) flush(w, px, fb, dc);
       const int q = p.num_quads;
       const bool shift = m0 == 0;  // only the right quad: move lanes 4..7 down
       const size_t lane0 = size_t(q) * 4;
@@ -263,15 +283,10 @@ void raster_triangle(const float* planes, Worker& w, Framebuffer& fb, const Draw
       p.num_quads += (m0 != 0) + (m1 != 0);
     }
   }
-  flush(w, fb, dc);
+  flush(w, px, fb, dc);
 }
 
-}  // namespace
-
-// Sets n values from dst on to v, in stores as wide as the target's vectors (the clear runs
-// ahead of the tile's first reads and is bound by how many stores to lines not yet in the cache
-// the core keeps in flight: one wide store a line holds more lines in flight than four narrow
-// ones).
+// Sets n values from dst on to v, in stores as wide as the target's vectors.
 template <class T>
 void fill_wide(T* dst, size_t n, const T& v) {
   constexpr size_t kBytes = HWY_MAX_BYTES;  // the target's widest vector
@@ -287,18 +302,72 @@ void fill_wide(T* dst, size_t n, const T& v) {
   }
 }
 
-// Clears the tile's rows [x0, x1] x [y0, y1] of every plane the target has (a depth-only target
-// has no colour).
-void clear_rect(Framebuffer& fb, const ClearValues& c, int x0, int y0, int x1, int y1) {
+// Copies n floats from src to dst through non-temporal stores where the target has them: the
+// lines go to memory without being read into the cache first (a write-back of a finished tile,
+// which nothing reads again in this draw).
+void stream_floats(float* dst, const float* src, size_t n) {
+#if HWY_ARCH_X86
+  size_t i = 0;
+  for (; i < n && (reinterpret_cast<uintptr_t>(dst + i) & 15) != 0; ++i) dst[i] = src[i];
+  for (; i + 4 <= n; i += 4) _mm_stream_ps(dst + i, _mm_loadu_ps(src + i));
+  for (; i < n; ++i) dst[i] = src[i];
+#else
+  std::memcpy(dst, src, n * sizeof(float));
+#endif
+}
+
+// The tile [x0, x1] x [y0, y1] of fb drawn in w's tile-sized planes (TilePixels), which this
+// fills: cleared to `clear`, or else copied from fb. A target with AOVs is drawn in place.
+TilePixels tile_pixels(Worker& w, Framebuffer& fb, int tile, const ClearValues* clear, int x0,
+                       int y0, int x1, int y1) {
+  const size_t n = static_cast<size_t>(x1 - x0 + 1);
+  TilePixels px;
+  if (!fb.aov.empty() || fb.depth.values.empty()) {
+    px = {fb.color.pixels.empty() ? nullptr : fb.color.pixels.data(), fb.depth.values.data(),
+          static_cast<size_t>(fb.width), 0, 0};
+    for (int y = y0; clear && y <= y1; ++y) {
+      const size_t row = static_cast<size_t>(y) * fb.width + x0;
+      if (px.color) fill_wide(px.color + row, n, clear->color);
+      if (px.depth) fill_wide(px.depth + row, n, clear->depth);
+      if (!fb.aov.empty())
+        fill_wide(fb.aov.data() + row * kAovTotalChannels, n * kAovTotalChannels, 0.0f);
+    }
+    return px;
+  }
+  const size_t area = static_cast<size_t>(tile) * tile;
+  if (w.tile_depth.size() < area) w.tile_depth.resize(area);
+  const bool color = !fb.color.pixels.empty();
+  if (color && w.tile_color.size() < area) w.tile_color.resize(area);
+  px = {color ? w.tile_color.data() : nullptr, w.tile_depth.data(), static_cast<size_t>(tile), x0,
+        y0};
+  for (int y = y0; y <= y1; ++y) {
+    float* d = &px.depth_at(x0, y);
+    glm::vec4* c = color ? &px.color_at(x0, y) : nullptr;
+    if (clear) {
+      fill_wide(d, n, clear->depth);
+      if (c) fill_wide(c, n, clear->color);
+    } else {
+      std::memcpy(d, &fb.depth.at(x0, y), n * sizeof(float));
+      if (c) std::memcpy(c, &fb.color.at(x0, y), n * sizeof(glm::vec4));
+    }
+  }
+  return px;
+}
+
+// Writes tile_pixels' copies back into fb.
+void write_back(const TilePixels& px, Framebuffer& fb, int x0, int y0, int x1, int y1) {
+  if (px.depth == fb.depth.values.data()) return;  // drawn in place
   const size_t n = static_cast<size_t>(x1 - x0 + 1);
   for (int y = y0; y <= y1; ++y) {
-    const size_t row = static_cast<size_t>(y) * fb.width + x0;
-    if (!fb.color.pixels.empty()) fill_wide(fb.color.pixels.data() + row, n, c.color);
-    if (!fb.depth.values.empty()) fill_wide(fb.depth.values.data() + row, n, c.depth);
-    if (!fb.aov.empty())
-      fill_wide(fb.aov.data() + row * kAovTotalChannels, n * kAovTotalChannels, 0.0f);
+    stream_floats(&fb.depth.at(x0, y), &px.depth_at(x0, y), n);
+    if (px.color) stream_floats(&fb.color.at(x0, y).x, &px.color_at(x0, y).x, 4 * n);
   }
+#if HWY_ARCH_X86
+  _mm_sfence();  // the streamed stores are ordered before the pool reports the tile done
+#endif
 }
+
+}  // namespace
 
 // flatten: the traversal inlined into one function (speed only; see plugins/shading.h).
 RELIEF_LANE_FLATTEN void raster_tile(const TileGrid& g, Worker& w, Framebuffer& fb,
@@ -306,12 +375,13 @@ RELIEF_LANE_FLATTEN void raster_tile(const TileGrid& g, Worker& w, Framebuffer& 
                                      const ClearValues* clear) {
   int x0, y0, x1, y1;
   tile_rect(g, fb, tile, x0, y0, x1, y1);
-  if (clear) clear_rect(fb, *clear, x0, y0, x1, y1);
+  const TilePixels px = tile_pixels(w, fb, g.tile, clear, x0, y0, x1, y1);
   for (const TileBins& r : g.runs)
     for (uint32_t i = r.start[tile]; i < r.start[tile + 1]; ++i) {
       const SetupTriangle& t = r.tris[r.items[i]];
-      raster_triangle(r.planes, w, fb, draws[t.draw], t, x0, y0, x1, y1);
+      raster_triangle(r.planes, w, px, fb, draws[t.draw], t, x0, y0, x1, y1);
     }
+  write_back(px, fb, x0, y0, x1, y1);
 }
 
 }  // namespace HWY_NAMESPACE

@@ -40,6 +40,10 @@ struct Worker {
   int16_t qx[kPacketQuads], qy[kPacketQuads];
   WorkCounters counters;
   uint64_t quads = 0;
+  // The pixels of the tile being drawn (raster_tile.cpp, TilePixels): tile x tile, kept between
+  // tiles and frames.
+  std::vector<glm::vec4> tile_color;
+  std::vector<float> tile_depth;
 };
 
 // One segment of the frame's setup (rasterizer/setup_internal.h SetupSegment) as the tiles read

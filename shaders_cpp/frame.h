@@ -47,7 +47,9 @@ inline TangentFrame<F> make_tangent_frame(V3<F> normal, V3<F> tangent, F sign) {
   V3<F> t = tangent - n * dot(n, tangent);
   const F len2 = dot(t, t);
   const mask_t<F> good = len2 > F(1e-12f) * vmax(dot(tangent, tangent), F(1e-30f));
-  t = select(good, normalize(t), any_perpendicular(n));
+  // any_perpendicular (a division) only where some lane needs it: select would take the other
+  // side everywhere else.
+  t = all(good) ? normalize(t) : select(good, normalize(t), any_perpendicular(n));
   f.n = n;
   f.t = t;
   f.b = cross(n, t) * select(sign < F(0.0f), F(-1.0f), F(1.0f));

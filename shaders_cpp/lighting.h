@@ -43,8 +43,11 @@ template <class F>
 inline LightSample<F> light_sample(const LightUniform& light, V3<F> p) {
   LightSample<F> s;
   const V3<F> color(light.color);
+  // A uniform direction is normalised once in float and broadcast: the same IEEE operations
+  // as over the lanes, without a vector square root and division per packet.
   if (light.type == LightType::kDirectional) {
-    s.l = normalize(-V3<F>(light.direction));
+    const V3<float> l = normalize(-V3<float>(light.direction));
+    s.l = V3<F>(F(l.x), F(l.y), F(l.z));
     s.radiance = color;
     return s;
   }
@@ -57,7 +60,8 @@ inline LightSample<F> light_sample(const LightUniform& light, V3<F> p) {
     atten = atten * saturate(F(1.0f) - r * r);
   }
   if (light.type == LightType::kSpot) {
-    const F cd = dot(normalize(V3<F>(light.direction)), -s.l);
+    const V3<float> axis = normalize(V3<float>(light.direction));
+    const F cd = dot(V3<F>(F(axis.x), F(axis.y), F(axis.z)), -s.l);
     const float span = std::max(light.inner_cone_cos - light.outer_cone_cos, 1e-4f);
     const F k = saturate((cd - F(light.outer_cone_cos)) / F(span));
     atten = atten * k * k;

@@ -456,6 +456,52 @@ TEST(Pipeline, QuadWritesEqualLaneWrites) {
   EXPECT_GT(zeroed, 1000);
 }
 
+// Tiles are drawn in a copy of their pixels (raster_tile.cpp TilePixels) and written back: a draw
+// without a clear starts from what the target held, keeps every pixel no fragment reaches, and
+// with a clear replaces all of them; for every tile size, including ones that leave partial tiles.
+TEST(Pipeline, TilesStartFromTheTargetOrTheClearAndWriteBackEveryPixel) {
+  ThreadPool pool(2);
+  std::vector<glm::vec4> clip = {
+      {-0.5f, -0.5f, 0.5f, 1}, {0.6f, -0.4f, 0.5f, 1}, {0, 0.7f, 0.5f, 1}};
+  std::vector<uint32_t> idx = {0, 1, 2};
+  std::vector<float> vary;
+  Solid s{{0.5f, 0.25f, 1.0f, 1.0f}};
+  for (int tile : {8, 26, 64, 512}) {
+    for (bool clear : {false, true}) {
+      Framebuffer fb(kW, kH);
+      for (int y = 0; y < kH; ++y)
+        for (int x = 0; x < kW; ++x) {
+          fb.color.at(x, y) = glm::vec4(float(x), float(y), 0.0f, 1.0f);
+          fb.depth.at(x, y) = x == 3 * y ? 0.9f : 0.1f;  // a line the triangle cannot pass
+        }
+      DrawCall dc;
+      dc.clip = clip;
+      dc.varyings = vary;
+      dc.indices = idx;
+      dc.cull = CullMode::kNone;
+      dc.shader = &solid_shader;
+      dc.user = &s;
+      Rasterizer r(pool, RasterConfig{tile});
+      const ClearValues cv{glm::vec4(0.0f, 0.0f, 0.0f, 0.5f), 0.0f};
+      const RasterStats st = r.draw(fb, std::span<const DrawCall>(&dc, 1), clear ? &cv : nullptr);
+      const std::vector<int> covered = rasterize_count(pool, clip, idx, tile);
+      int drawn = 0;
+      for (int y = 0; y < kH; ++y)
+        for (int x = 0; x < kW; ++x) {
+          const bool blocked = !clear && x == 3 * y;
+          const bool hit = covered[y * kW + x] > 0 && !blocked;
+          const glm::vec4 before = clear ? cv.color : glm::vec4(float(x), float(y), 0.0f, 1.0f);
+          const float depth_before = clear ? cv.depth : (x == 3 * y ? 0.9f : 0.1f);
+          ASSERT_EQ(fb.color.at(x, y), hit ? s.color : before) << tile << " " << x << "," << y;
+          ASSERT_EQ(fb.depth.at(x, y), hit ? 0.5f : depth_before) << tile << " " << x << "," << y;
+          drawn += hit;
+        }
+      EXPECT_GT(drawn, 3000);
+      EXPECT_GE(st.work.fragments, static_cast<uint64_t>(drawn));
+    }
+  }
+}
+
 TEST(Pipeline, BackFaceCulling) {
   ThreadPool pool(1);
   std::vector<glm::vec4> clip = {
