@@ -319,10 +319,8 @@ void solid_shader(const void* user, const FragmentPacket& p, FragmentOutput& out
   }
 }
 
-Framebuffer overlap_scene(ThreadPool& pool, DepthTest mode, bool farther) {
-  // Three overlapping triangles at reversed-Z depths 0.3, 0.7 and 0.5, drawn in that order.
-  std::vector<glm::vec4> clip;
-  std::vector<uint32_t> idx;
+// Three overlapping triangles at reversed-Z depths 0.3, 0.7 and 0.5, in that order.
+void overlapping_triangles(std::vector<glm::vec4>& clip, std::vector<uint32_t>& idx) {
   const float depth[3] = {0.3f, 0.7f, 0.5f};
   for (int t = 0; t < 3; ++t) {
     const float ox = -0.5f + 0.4f * t;
@@ -331,6 +329,12 @@ Framebuffer overlap_scene(ThreadPool& pool, DepthTest mode, bool farther) {
     clip.push_back({ox, 0.8f, depth[t], 1});
     idx.insert(idx.end(), {uint32_t(3 * t), uint32_t(3 * t + 1), uint32_t(3 * t + 2)});
   }
+}
+
+Framebuffer overlap_scene(ThreadPool& pool, DepthTest mode, bool farther) {
+  std::vector<glm::vec4> clip;
+  std::vector<uint32_t> idx;
+  overlapping_triangles(clip, idx);
   std::vector<float> vary;
   static Solid colors[3] = {{{1, 0, 0, 1}}, {{0, 1, 0, 1}}, {{0, 0, 1, 1}}};
   std::vector<DrawCall> draws;
@@ -400,14 +404,7 @@ TEST(Pipeline, QuadWritesEqualLaneWrites) {
   ThreadPool pool(2);
   std::vector<glm::vec4> clip;
   std::vector<uint32_t> idx;
-  const float depth[3] = {0.3f, 0.7f, 0.5f};
-  for (int t = 0; t < 3; ++t) {
-    const float ox = -0.5f + 0.4f * t;
-    clip.push_back({ox - 0.6f, -0.7f, depth[t], 1});
-    clip.push_back({ox + 0.7f, -0.6f, depth[t], 1});
-    clip.push_back({ox, 0.8f, depth[t], 1});
-    idx.insert(idx.end(), {uint32_t(3 * t), uint32_t(3 * t + 1), uint32_t(3 * t + 2)});
-  }
+  overlapping_triangles(clip, idx);
   std::vector<float> vary;
   auto render = [&](DepthTest mode, RasterStats* stats) {
     DrawCall dc;
