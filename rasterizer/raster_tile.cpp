@@ -52,10 +52,8 @@ struct TilePixels {
 // Channel c's four lanes of quad q of the shader's output, NaN and infinities read as 0 (the
 // scalar write-out's std::isfinite test: exponent bits all ones).
 vf4 quad_channel(const FragmentOutput& o, int c, int q) {
-  vf4 v;
-  std::memcpy(&v, &o.color[c][q * 4], sizeof v);
   vi4 bits;
-  std::memcpy(&bits, &v, sizeof v);
+  std::memcpy(&bits, &o.color[c][q * 4], sizeof bits);
   const vi4 finite = (bits & 0x7f800000) != 0x7f800000;
   return reinterpret_cast<vf4>(bits & finite);
 }
@@ -286,22 +284,6 @@ void raster_triangle(const float* planes, Worker& w, const TilePixels& px, Frame
   flush(w, px, fb, dc);
 }
 
-// Sets n values from dst on to v, in stores as wide as the target's vectors.
-template <class T>
-void fill_wide(T* dst, size_t n, const T& v) {
-  constexpr size_t kBytes = HWY_MAX_BYTES;  // the target's widest vector
-  constexpr size_t kPer = kBytes / sizeof(T);
-  if constexpr (kPer >= 2 && kBytes % sizeof(T) == 0) {
-    T block[kPer];
-    std::fill_n(block, kPer, v);
-    size_t i = 0;
-    for (; i + kPer <= n; i += kPer) std::memcpy(dst + i, block, kBytes);
-    std::fill_n(dst + i, n - i, v);
-  } else {
-    std::fill_n(dst, n, v);
-  }
-}
-
 // Copies n floats from src to dst through non-temporal stores where the target has them: the
 // lines go to memory without being read into the cache first (a write-back of a finished tile,
 // which nothing reads again in this draw).
@@ -317,35 +299,32 @@ void stream_floats(float* dst, const float* src, size_t n) {
 }
 
 // The tile [x0, x1] x [y0, y1] of fb drawn in w's tile-sized planes (TilePixels), which this
-// fills: cleared to `clear`, or else copied from fb. A target with AOVs is drawn in place.
+// fills: cleared to `clear`, or else copied from fb. A target with AOVs (or without depth) is
+// drawn in place and only cleared.
 TilePixels tile_pixels(Worker& w, Framebuffer& fb, int tile, const ClearValues* clear, int x0,
                        int y0, int x1, int y1) {
-  const size_t n = static_cast<size_t>(x1 - x0 + 1);
-  TilePixels px;
-  if (!fb.aov.empty() || fb.depth.values.empty()) {
-    px = {fb.color.pixels.empty() ? nullptr : fb.color.pixels.data(), fb.depth.values.data(),
-          static_cast<size_t>(fb.width), 0, 0};
-    for (int y = y0; clear && y <= y1; ++y) {
-      const size_t row = static_cast<size_t>(y) * fb.width + x0;
-      if (px.color) fill_wide(px.color + row, n, clear->color);
-      if (px.depth) fill_wide(px.depth + row, n, clear->depth);
-      if (!fb.aov.empty())
-        fill_wide(fb.aov.data() + row * kAovTotalChannels, n * kAovTotalChannels, 0.0f);
-    }
-    return px;
-  }
-  const size_t area = static_cast<size_t>(tile) * tile;
-  if (w.tile_depth.size() < area) w.tile_depth.resize(area);
+  const bool in_place = !fb.aov.empty() || fb.depth.values.empty();
   const bool color = !fb.color.pixels.empty();
-  if (color && w.tile_color.size() < area) w.tile_color.resize(area);
-  px = {color ? w.tile_color.data() : nullptr, w.tile_depth.data(), static_cast<size_t>(tile), x0,
-        y0};
+  TilePixels px;
+  if (in_place) {
+    px = {color ? fb.color.pixels.data() : nullptr, fb.depth.values.data(),
+          static_cast<size_t>(fb.width), 0, 0};
+  } else {
+    const size_t area = static_cast<size_t>(tile) * tile;
+    if (w.tile_depth.size() < area) w.tile_depth.resize(area);
+    if (color && w.tile_color.size() < area) w.tile_color.resize(area);
+    px = {color ? w.tile_color.data() : nullptr, w.tile_depth.data(), static_cast<size_t>(tile), x0,
+          y0};
+  }
+  if (in_place && !clear) return px;
+  const size_t n = static_cast<size_t>(x1 - x0 + 1);
   for (int y = y0; y <= y1; ++y) {
-    float* d = &px.depth_at(x0, y);
-    glm::vec4* c = color ? &px.color_at(x0, y) : nullptr;
+    float* d = px.depth ? &px.depth_at(x0, y) : nullptr;
+    glm::vec4* c = px.color ? &px.color_at(x0, y) : nullptr;
     if (clear) {
-      fill_wide(d, n, clear->depth);
-      if (c) fill_wide(c, n, clear->color);
+      if (d) std::fill_n(d, n, clear->depth);
+      if (c) std::fill_n(c, n, clear->color);
+      if (!fb.aov.empty()) std::fill_n(fb.aov_at(x0, y), n * kAovTotalChannels, 0.0f);
     } else {
       std::memcpy(d, &fb.depth.at(x0, y), n * sizeof(float));
       if (c) std::memcpy(c, &fb.color.at(x0, y), n * sizeof(glm::vec4));

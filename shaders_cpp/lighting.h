@@ -43,8 +43,8 @@ template <class F>
 inline LightSample<F> light_sample(const LightUniform& light, V3<F> p) {
   LightSample<F> s;
   const V3<F> color(light.color);
-  // A uniform direction is normalised once in float and broadcast: the same IEEE operations
-  // as over the lanes, without a vector square root and division per packet.
+  // A uniform direction is normalised in float and broadcast: the same IEEE operations as over
+  // the lanes, without a vector square root and division.
   if (light.type == LightType::kDirectional) {
     const V3<float> l = normalize(-V3<float>(light.direction));
     s.l = V3<F>(F(l.x), F(l.y), F(l.z));

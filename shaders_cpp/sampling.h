@@ -506,8 +506,8 @@ inline void set_lane4(V4<F>& r, int i, const glm::vec4& c) {
 
 // The LOD texture_grad's lane path computed last (detail::lod_from_grad), for the texture size
 // and uv derivatives it was computed from: a kernel reads several textures with the same
-// derivatives (colour, normal map, ...), mostly of one size, and the LOD (two square-root-class
-// operations and a logarithm on the way to the first texel load) is then computed once a packet.
+// derivatives (colour, normal map, ...), mostly of one size, and the LOD (a square root and a
+// logarithm with a division, on the way to the first texel load) is then computed once a packet.
 // Reuse is decided on the inputs' bits, so it gives the bits of computing it again.
 template <class F>
 struct GradLodMemo {
