@@ -16,6 +16,7 @@
 #include "gl/gl_backend.h"
 #include "render/render.h"
 #include "render/renderer.h"
+#include "sweep/sweep.h"
 
 namespace relief {
 namespace {
@@ -29,17 +30,21 @@ RenderOptions plane_options(const char* technique) {
   return opt;
 }
 
-void run_plane(benchmark::State& state, const char* technique) {
+// Arguments: threads, recycle (0: a new framebuffer every frame, as a one-frame render has).
+void run_frame(benchmark::State& state, const Scene& scene, const RenderOptions& options) {
   const int threads = static_cast<int>(state.range(0));
   const bool recycle = state.range(1) != 0;  // hand each frame back: no allocation per frame
-  Result<Scene> scene = make_builtin_scene("plane");
   Renderer renderer(make_cpu_backend({.threads = threads}));
-  Result<Plan> plan = renderer.plan(*scene, plane_options(technique));
+  Result<Plan> plan = renderer.plan(scene, options);
+  if (!plan.ok()) {
+    state.SkipWithError(plan.status().message().c_str());
+    return;
+  }
   uint64_t fragments = 0;
   double setup_ms = 0.0, raster_ms = 0.0, other_ms = 0.0;
-  (void)renderer.execute(*scene, *plan);  // warm-up
+  (void)renderer.execute(scene, *plan);  // warm-up
   for (auto _ : state) {
-    Result<RenderResult> r = renderer.execute(*scene, *plan);
+    Result<RenderResult> r = renderer.execute(scene, *plan);
     double pass_ms = 0.0;
     for (const PassStats& p : r->passes) {
       fragments += p.raster.work.fragments;
@@ -57,6 +62,10 @@ void run_plane(benchmark::State& state, const char* technique) {
   state.counters["raster_ms"] = raster_ms / n;
   state.counters["other_ms"] = other_ms / n;
   state.SetLabel(simd_level_name(simd_level()));
+}
+
+void run_plane(benchmark::State& state, const char* technique) {
+  run_frame(state, *make_builtin_scene("plane"), plane_options(technique));
 }
 
 // The same frame on the GL backend: manual time = the main pass (PassStats::ms).
@@ -88,8 +97,20 @@ void BM_Raster_Flat(benchmark::State& state) {
 void BM_Raster_Normal(benchmark::State& state) {
   run_plane(state, "normal");
 }
+// The CPU side of `relief bench`'s appendix yardstick (sweep.h appendix_lean; issue 26, goal 3):
+// the `bricks` field at 30 degrees, 1920x1080, `relief` 10+5 lod=zero without self-shadow,
+// shadows or depth writes. Its items are the fragments shaded (the covered pixels).
+void BM_Raster_ReliefLean(benchmark::State& state) {
+  Result<sweep::Field> field = sweep::builtin_field("bricks");
+  if (!field.ok()) {
+    state.SkipWithError(field.status().message().c_str());
+    return;
+  }
+  const sweep::AppendixLean lean =
+      sweep::appendix_lean(sweep::view_scene(*field, 30.0, 1920, 1080), 1920, 1080);
+  run_frame(state, lean.scene, lean.options);
+}
 
-// Arguments: threads, recycle (0: a new framebuffer every frame, as a one-frame render has).
 BENCHMARK(BM_Raster_Flat)
     ->ArgsProduct({{1, 2}, {0, 1}})
     ->ArgNames({"threads", "recycle"})
@@ -97,6 +118,11 @@ BENCHMARK(BM_Raster_Flat)
     ->UseRealTime();
 BENCHMARK(BM_Raster_Normal)
     ->ArgsProduct({{1, 2}, {0, 1}})
+    ->ArgNames({"threads", "recycle"})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
+BENCHMARK(BM_Raster_ReliefLean)
+    ->ArgsProduct({{1, 2}, {1}})
     ->ArgNames({"threads", "recycle"})
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();

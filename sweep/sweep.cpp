@@ -262,20 +262,9 @@ class Runner {
     AppendixRow row;
     row.field = field.name;
     row.angle = angle;
-    Scene lean = scene;
-    for (Material& m : lean.materials) {
-      m.self_shadow = false;
-      m.depth_write = false;
-    }
-    const Setting s{"relief",
-                    {{"steps", std::to_string(kAppendixLinearSteps)},
-                     {"min_steps", std::to_string(kAppendixLinearSteps)},
-                     {"binary_steps", std::to_string(kAppendixBinarySteps)},
-                     {"lod", "zero"}},
-                    "relief lean",
-                    kAppendixLinearSteps};
-    RenderOptions ro = render_options(s, false);
-    ro.self_shadow = false;
+    AppendixLean a = appendix_lean(scene, opt_.width, opt_.height);
+    const Scene& lean = a.scene;
+    RenderOptions& ro = a.options;
     if (!appendix_gl_ && appendix_error_.empty()) {
       if (opt_.threads > 0) setenv("LP_NUM_THREADS", std::to_string(opt_.threads).c_str(), 0);
       Result<std::unique_ptr<gl::AppendixRelief>> a = gl::AppendixRelief::create();
@@ -488,6 +477,25 @@ void work_stats(const Measured& m, Row& row) {
 }
 
 }  // namespace
+
+AppendixLean appendix_lean(const Scene& view, int width, int height) {
+  AppendixLean a{view, {}};
+  for (Material& m : a.scene.materials) {
+    m.self_shadow = false;
+    m.depth_write = false;
+  }
+  RenderOptions& r = a.options;
+  r.width = width;
+  r.height = height;
+  r.technique = "relief";
+  r.params = {{"steps", std::to_string(kAppendixLinearSteps)},
+              {"min_steps", std::to_string(kAppendixLinearSteps)},
+              {"binary_steps", std::to_string(kAppendixBinarySteps)},
+              {"lod", "zero"}};
+  r.shadows = false;
+  r.self_shadow = false;
+  return a;
+}
 
 Result<SweepResult> run_sweep(const std::vector<Field>& fields,
                               const std::vector<Setting>& settings, const Options& options) {

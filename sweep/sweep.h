@@ -188,6 +188,14 @@ struct Row {
 // clear + draw + glFinish) by the CPU's covered pixels.
 inline constexpr int kAppendixLinearSteps = 10;
 inline constexpr int kAppendixBinarySteps = 5;
+// The CPU side of that yardstick: `view` (a view_scene) with every material's self-shadow and
+// depth write off, and the options of `relief` 10+5 lod=zero without shadows or self-shadow at
+// width x height (bench_raster's BM_Raster_ReliefLean draws the same frame).
+struct AppendixLean {
+  Scene scene;
+  RenderOptions options;
+};
+AppendixLean appendix_lean(const Scene& view, int width, int height);
 struct AppendixRow {
   std::string field;
   double angle = 0.0;

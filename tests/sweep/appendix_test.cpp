@@ -44,24 +44,12 @@ Field field(size_t i) {
   return b->at(i);
 }
 
-// The sweep's view with the yardstick's effects off.
-Scene lean_view(const Field& f, double angle, int w, int h) {
-  Scene s = view_scene(f, angle, w, h);
-  s.materials[0].self_shadow = false;
-  s.materials[0].depth_write = false;
-  return s;
-}
-
-RenderOptions lean_options(int w, int h) {
-  RenderOptions o = test::cpu_options(w, h, "relief");
-  o.params = {{"steps", std::to_string(kAppendixLinearSteps)},
-              {"min_steps", std::to_string(kAppendixLinearSteps)},
-              {"binary_steps", std::to_string(kAppendixBinarySteps)},
-              {"lod", "zero"}};
-  o.self_shadow = false;
-  o.shadows = false;
-  o.aovs = aov_bit(Aov::kHitUv);
-  return o;
+// The sweep's view with the yardstick's effects off, and the CPU side's options (the bench's own,
+// sweep.h appendix_lean) with the hits as an AOV.
+AppendixLean lean(const Field& f, double angle, int w, int h) {
+  AppendixLean l = appendix_lean(view_scene(f, angle, w, h), w, h);
+  l.options.aovs = aov_bit(Aov::kHitUv);
+  return l;
 }
 
 // The paper's texture as the yardstick packs it: normal (rgb) and depth (a), RGBA8.
@@ -94,11 +82,12 @@ TEST(Appendix, FindsTheHitsOfCpuReliefAndShadesTheirDiffuse) {
     bilinear.filter = Filter::kBilinear;
     for (double angle : {0.0, 40.0, 70.0}) {
       SCOPED_TRACE(f.name + " at " + std::to_string(angle) + " deg");
-      const Scene scene = lean_view(f, angle, kW, kH);
+      const AppendixLean view = lean(f, angle, kW, kH);
+      const Scene& scene = view.scene;
       ASSERT_TRUE(a->prepare(scene, kW, kH, kAppendixLinearSteps, kAppendixBinarySteps).ok());
       Image color, hits;
       ASSERT_TRUE(a->draw_hits(color, hits).ok());
-      std::optional<Framebuffer> cpu = test::render_frame(scene, lean_options(kW, kH));
+      std::optional<Framebuffer> cpu = test::render_frame(scene, view.options);
       ASSERT_TRUE(cpu.has_value());
       // the same pixels, the same hits (within a texel), and the diffuse of the hit's normal
       const glm::vec3 l = glm::normalize(-scene.lights[0].direction);
@@ -156,7 +145,7 @@ TEST(Appendix, RefusesWhatItCannotDraw) {
   std::unique_ptr<gl::AppendixRelief> a = yardstick(why);
   if (!a) GTEST_SKIP() << why;
   const Field f = field(0);
-  const Scene scene = lean_view(f, 30.0, 32, 32);
+  const Scene scene = lean(f, 30.0, 32, 32).scene;
   EXPECT_FALSE(a->prepare(scene, 32, 32, 1, 5).ok());
   EXPECT_FALSE(a->prepare(scene, 32, 32, 10, -1).ok());
   EXPECT_FALSE(a->prepare(scene, 0, 32, 10, 5).ok());
