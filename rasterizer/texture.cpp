@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstring>
 #include <iterator>
+#include <mutex>
 
 #include "base/check.h"
 
@@ -477,6 +478,7 @@ Texture::Texture(TexFormat format, int width, int height, const void* texels,
   level.data.assign(p, p + bytes);
   sanitize_level(format, level);
   levels_.push_back(std::move(level));
+  reset_footprints();
 }
 
 Texture Texture::from_floats(TexFormat format, int width, int height, const float* values,
@@ -492,6 +494,7 @@ Texture Texture::from_floats(TexFormat format, int width, int height, const floa
   level.height = height;
   encode_level(format, t.color_space_, values, static_cast<size_t>(width) * height, level.data);
   t.levels_.push_back(std::move(level));
+  t.reset_footprints();
   return t;
 }
 
@@ -515,6 +518,7 @@ Texture Texture::from_levels(TexFormat format, std::vector<MipLevel> levels,
     sanitize_level(format, level);
   }
   t.levels_ = std::move(levels);
+  t.reset_footprints();
   return t;
 }
 
@@ -577,6 +581,7 @@ void Texture::generate_mips(MipReduce reduce) {
     sw = dw;
     sh = dh;
   }
+  reset_footprints();
 }
 
 void Texture::dilate_mips(MipReduce reduce, Wrap wrap_u, Wrap wrap_v) {
@@ -601,6 +606,55 @@ void Texture::dilate_mips(MipReduce reduce, Wrap wrap_u, Wrap wrap_v) {
         }
     encode_level(format_, color_space_, dst.data(), static_cast<size_t>(w) * h, level.data);
   }
+  reset_footprints();
+}
+
+// Per level and wrap pair (repeat or clamp each way): the footprint words, built once.
+struct Texture::FootprintCache {
+  explicit FootprintCache(size_t levels) : once(levels * 4), words(levels * 4), width(levels * 4) {}
+  std::vector<std::once_flag> once;
+  std::vector<std::vector<uint32_t>> words;
+  std::vector<int> width;
+};
+
+void Texture::reset_footprints() {
+  footprints_ = format_ == TexFormat::kR8 && !levels_.empty()
+                    ? std::make_shared<FootprintCache>(levels_.size())
+                    : nullptr;
+}
+
+Texture::Footprints Texture::r8_footprints(int level, Wrap wrap_u, Wrap wrap_v) const {
+  constexpr size_t kMaxWords = size_t{1} << 24;
+  if (!footprints_ || level < 0 || level >= levels() || wrap_u == Wrap::kMirror ||
+      wrap_v == Wrap::kMirror)
+    return {};
+  const MipLevel& m = levels_[level];
+  const int cols = m.width + (wrap_u == Wrap::kClamp ? 1 : 0);
+  const int rows = m.height + (wrap_v == Wrap::kClamp ? 1 : 0);
+  if (static_cast<size_t>(cols) * static_cast<size_t>(rows) > kMaxWords) return {};
+  FootprintCache& c = *footprints_;
+  const size_t slot = static_cast<size_t>(level) * 4 + (wrap_u == Wrap::kClamp ? 2 : 0) +
+                      (wrap_v == Wrap::kClamp ? 1 : 0);
+  std::call_once(c.once[slot], [&] {
+    // the integer corner each cell stands for: the cell itself (repeat), one before (clamp)
+    const int du = wrap_u == Wrap::kClamp ? -1 : 0, dv = wrap_v == Wrap::kClamp ? -1 : 0;
+    std::vector<uint32_t>& w = c.words[slot];
+    w.resize(static_cast<size_t>(cols) * static_cast<size_t>(rows));
+    const uint8_t* d = m.data.data();
+    for (int r = 0; r < rows; ++r) {
+      const size_t y0 = static_cast<size_t>(wrap_texel(r + dv, m.height, wrap_v)) * m.width;
+      const size_t y1 = static_cast<size_t>(wrap_texel(r + dv + 1, m.height, wrap_v)) * m.width;
+      for (int col = 0; col < cols; ++col) {
+        const int x0 = wrap_texel(col + du, m.width, wrap_u);
+        const int x1 = wrap_texel(col + du + 1, m.width, wrap_u);
+        w[static_cast<size_t>(r) * cols + col] = uint32_t{d[y0 + x0]} | uint32_t{d[y0 + x1]} << 8 |
+                                                 uint32_t{d[y1 + x0]} << 16 |
+                                                 uint32_t{d[y1 + x1]} << 24;
+      }
+    }
+    c.width[slot] = cols;
+  });
+  return {c.words[slot].data(), c.width[slot]};
 }
 
 glm::vec4 Texture::fetch(int level, int x, int y) const {

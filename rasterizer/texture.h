@@ -12,6 +12,7 @@
 // of the footprint (the EXT_texture_filter_anisotropic model).
 #pragma once
 
+#include <algorithm>
 #include <cstdint>
 #include <memory>
 #include <string>
@@ -91,10 +92,30 @@ class Texture {
   // First channel only: the fast path for depth and cone maps.
   float fetch_r(int level, int x, int y) const;
 
+  // The bilinear footprints of an R8 level, for the lane-parallel reads (shaders_cpp/sampling.h
+  // bilinear_at: one 4-byte gather a read instead of two texel-pair gathers). Word
+  // row * width + column holds the four texels a bilinear read with integer corner (ix, iy)
+  // blends: (x0, y0), (x1, y0), (x0, y1), (x1, y1) in bytes 0 to 3, where x0 = wrap(ix) and
+  // x1 = wrap(ix + 1) by wrap_u, y0 and y1 likewise by wrap_v. The column is footprint_cell(ix):
+  // x0 for repeat (width = the level's width), min(max(ix, -1), w - 1) + 1 for clamp (width = w +
+  // 1: ix = -1 reads texel 0 twice). Rows likewise. Built on the first call for that level and
+  // those wraps, once, from any thread, and kept with the texture (copies share them until one
+  // is changed). Empty (null words) for other formats, mirror wraps and levels over 16 M
+  // footprints.
+  struct Footprints {
+    const uint32_t* words = nullptr;
+    int width = 0;  // words a row
+  };
+  Footprints r8_footprints(int level, Wrap wrap_u, Wrap wrap_v) const;
+
  private:
+  struct FootprintCache;
+  void reset_footprints();  // after the levels change
+
   TexFormat format_ = TexFormat::kRGBA8;
   ColorSpace color_space_ = ColorSpace::kLinear;
   std::vector<MipLevel> levels_;
+  std::shared_ptr<FootprintCache> footprints_;  // null until levels exist (R8 only)
 };
 
 using TexturePtr = std::shared_ptr<const Texture>;
@@ -122,6 +143,13 @@ inline int wrap_texel(int i, int size, Wrap w) {
     }
   }
   return 0;
+}
+
+// The footprint column (row) of integer texel coordinate i at a level `size` texels wide (high)
+// under wrap w (repeat or clamp; Texture::r8_footprints).
+inline int footprint_cell(int i, int size, Wrap w) {
+  if (w == Wrap::kClamp) return std::min(std::max(i, -1), size - 1) + 1;
+  return wrap_texel(i, size, w);
 }
 
 // LOD (before clamping) from screen-space derivatives of uv, as GL computes it.

@@ -174,6 +174,24 @@ template <int kBytes, int kTexels = 1, class I>
   return idx;  // not reached: can_gather is false wherever this is not a gather
 }
 
+// 32-bit words[idx] per lane (native lanes on a gather target only).
+template <class I>
+[[gnu::always_inline]] inline I gather_u32(const uint32_t* words, const I& idx) {
+#if HWY_ARCH_X86 && HWY_TARGET <= HWY_AVX2
+  if constexpr (std::is_same_v<I, IN>)
+    return from_hwy(hn::GatherIndex(DI(), reinterpret_cast<const int32_t*>(words), to_hwy(idx)));
+#endif
+  (void)words;
+  return idx;  // not reached: only bilinear_at's footprint path on a gather target calls it
+}
+
+// footprint_cell (rasterizer/texture.h) over lanes: repeat is the wrapped coordinate itself.
+template <class I>
+inline I footprint_cells(const I& i, const I& size, Wrap w, bool pow2) {
+  if (w == Wrap::kClamp) return vmin(vmax(i, I(-1)), size - I(1)) + I(1);
+  return wrap_lanes(i, size, w, pow2);
+}
+
 // Texels idx and idx + 1 of a 4-byte format (RGBA8, R32F; both inside the level, can_gather said
 // yes) a lane: one 8-byte gather per lane (two 8-lane gathers for 16 lanes, two 4-lane gathers
 // for 8), split into the first and second texel's words. Half the gathered elements of two
@@ -269,6 +287,9 @@ template <int kBytes, class F>
 struct WordSource {
   const MipLevel* level;
   bool gather;
+  // the level's R8 footprints for the sampler's wraps (Texture::r8_footprints), where a prepared
+  // read (prepare_r_lod) asked for them; bilinear_at then gathers one word a read
+  Texture::Footprints footprints = {};
 };
 template <class F>
 [[gnu::always_inline]] inline WordSource word_source(const Texture& t, int_t<F> lvl) {
@@ -329,46 +350,64 @@ template <TexFormat kFmt, int kUsed, class F>
   const F fx = floor_coord(xf), fy = floor_coord(yf);
   const F a = xf - fx, b = yf - fy;
   const I ix = trunc_to_int(fx), iy = trunc_to_int(fy);
-  const I x0 = wrap_lanes(ix, w, s.wrap_u, pow2), x1 = wrap_lanes(ix + I(1), w, s.wrap_u, pow2);
-  const I y0 = wrap_lanes(iy, h, s.wrap_v, pow2), y1 = wrap_lanes(iy + I(1), h, s.wrap_v, pow2);
-  const I r0 = row_offset(y0, at.size, pow2), r1 = row_offset(y1, at.size, pow2);
   const WordSource& src = at.src;
   constexpr int kB = texel_bytes(kFmt);
   I t00, t10, t01, t11;
   bool gathered = false;
-  if constexpr (kHwyLanes<F>) {
-    if (src.gather) {
+  if constexpr (kHwyLanes<F> && kFmt == TexFormat::kR8) {
+    if (src.footprints.words) {  // the four texels in one word (Texture::r8_footprints)
       gathered = true;
-      const MipLevel& level = *src.level;
-      // No lane on the wrap seam: each row's two texels in one word (R8, RG8) or one 8-byte
-      // gather (4-byte texels).
-      const bool pairs = all(x1 == x0 + I(1));
-      if (pairs) {
-        if constexpr (kB <= 2) {
-          constexpr int32_t kMask = (1 << (8 * kB)) - 1;
-          const I top = gather_word<kB, 2>(level, r0 + x0);
-          const I bottom = gather_word<kB, 2>(level, r1 + x0);
-          t00 = top & I(kMask);
-          t10 = (top >> (8 * kB)) & I(kMask);
-          t01 = bottom & I(kMask);
-          t11 = (bottom >> (8 * kB)) & I(kMask);
-        } else {
-          gather_pair4(level, r0 + x0, t00, t10);
-          gather_pair4(level, r1 + x0, t01, t11);
-        }
-      } else {
-        t00 = gather_word<kB>(level, r0 + x0);
-        t10 = gather_word<kB>(level, r0 + x1);
-        t01 = gather_word<kB>(level, r1 + x0);
-        t11 = gather_word<kB>(level, r1 + x1);
-      }
+      const Texture::Footprints& fp = src.footprints;
+      const I col = footprint_cells(ix, w, s.wrap_u, pow2);
+      const I row = footprint_cells(iy, h, s.wrap_v, pow2);
+      // repeat across: a row is the level's width, a shift where it is a power of two
+      const I idx = s.wrap_u == Wrap::kRepeat ? row_offset(row, at.size, pow2) + col
+                                              : row * I(fp.width) + col;
+      const I word = gather_u32(fp.words, idx);
+      t00 = word & I(0xff);
+      t10 = (word >> 8) & I(0xff);
+      t01 = (word >> 16) & I(0xff);
+      t11 = (word >> 24) & I(0xff);
     }
   }
-  if (!gathered) {
-    t00 = load_words<kB, F>(t, lvl, src.level, r0 + x0);
-    t10 = load_words<kB, F>(t, lvl, src.level, r0 + x1);
-    t01 = load_words<kB, F>(t, lvl, src.level, r1 + x0);
-    t11 = load_words<kB, F>(t, lvl, src.level, r1 + x1);
+  if (!gathered) {  // the texels of the four corners, wrapped apart
+    const I x0 = wrap_lanes(ix, w, s.wrap_u, pow2), x1 = wrap_lanes(ix + I(1), w, s.wrap_u, pow2);
+    const I y0 = wrap_lanes(iy, h, s.wrap_v, pow2), y1 = wrap_lanes(iy + I(1), h, s.wrap_v, pow2);
+    const I r0 = row_offset(y0, at.size, pow2), r1 = row_offset(y1, at.size, pow2);
+    if constexpr (kHwyLanes<F>) {
+      if (src.gather) {
+        gathered = true;
+        const MipLevel& level = *src.level;
+        // No lane on the wrap seam: each row's two texels in one word (R8, RG8) or one 8-byte
+        // gather (4-byte texels).
+        const bool pairs = all(x1 == x0 + I(1));
+        if (pairs) {
+          if constexpr (kB <= 2) {
+            constexpr int32_t kMask = (1 << (8 * kB)) - 1;
+            const I top = gather_word<kB, 2>(level, r0 + x0);
+            const I bottom = gather_word<kB, 2>(level, r1 + x0);
+            t00 = top & I(kMask);
+            t10 = (top >> (8 * kB)) & I(kMask);
+            t01 = bottom & I(kMask);
+            t11 = (bottom >> (8 * kB)) & I(kMask);
+          } else {
+            gather_pair4(level, r0 + x0, t00, t10);
+            gather_pair4(level, r1 + x0, t01, t11);
+          }
+        } else {
+          t00 = gather_word<kB>(level, r0 + x0);
+          t10 = gather_word<kB>(level, r0 + x1);
+          t01 = gather_word<kB>(level, r1 + x0);
+          t11 = gather_word<kB>(level, r1 + x1);
+        }
+      }
+    }
+    if (!gathered) {
+      t00 = load_words<kB, F>(t, lvl, src.level, r0 + x0);
+      t10 = load_words<kB, F>(t, lvl, src.level, r0 + x1);
+      t01 = load_words<kB, F>(t, lvl, src.level, r1 + x0);
+      t11 = load_words<kB, F>(t, lvl, src.level, r1 + x1);
+    }
   }
   const bool srgb = t.color_space() == ColorSpace::kSRGB;
   const float* lut = srgb ? srgb8_table() : nullptr;  // decode8 reads it for sRGB only

@@ -94,12 +94,16 @@ void prepare_r_lod(const Texture& t, const SamplerState& s, const float* lod, RL
   if (!one_level) return;
   p.shared_levels = true;
   p.pow2 = detail::pow2_texture(t);
+  const bool nearest = s.filter == Filter::kNearest;
   const int idx[2] = {lo, hi};
   for (int k = 0; k < 2; ++k) {
     const MipLevel& m = t.level(idx[k]);
     p.level[k] = {idx[k], detail::level_size(t, idx[k]), {&m, detail::can_gather<FN>(m)}};
+    // R8 bilinear reads on a gather target: one footprint word a read (bilinear_at), built on
+    // the first plan that reads the level
+    if (t.format() == TexFormat::kR8 && !nearest && p.level[k].src.gather && (k == 0 || two))
+      p.level[k].src.footprints = t.r8_footprints(idx[k], s.wrap_u, s.wrap_v);
   }
-  const bool nearest = s.filter == Filter::kNearest;
   const int levels = two ? 2 : 1;
   switch (t.format()) {
     case TexFormat::kR8:

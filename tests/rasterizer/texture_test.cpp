@@ -673,5 +673,69 @@ TEST(Texture, NonFiniteInputsGiveFiniteResults) {
   EXPECT_EQ(sample_r_lod(t, s, {nan, nan}, 0.0f), sample_r_lod(t, s, {0.0f, 0.0f}, 0.0f));
 }
 
+// The R8 footprint words (the lane-parallel bilinear read's one gather) hold, for every integer
+// corner (ix, iy) a read can have, the four texels ref_wrap gives, in bytes 0..3: on levels of
+// power-of-two and other sizes, for repeat and clamp each way, at corners inside the level, on
+// its seams and far outside it. Other formats and mirror wraps have none; a copy shares the words
+// until its levels change, and then has words of its own levels.
+TEST(Texture, R8FootprintsHoldTheFourWrappedTexels) {
+  const std::vector<float> values = random_values(37 * 20, 91);
+  Texture t = Texture::from_floats(TexFormat::kR8, 37, 20, values.data());
+  t.generate_mips();
+  Texture p2 = Texture::from_floats(TexFormat::kR8, 16, 8, random_values(16 * 8, 92).data());
+  p2.generate_mips();
+  const auto texel = [](const Texture& tex, int level, int x, int y) {
+    return static_cast<uint32_t>(
+        tex.level(level).data[static_cast<size_t>(y) * tex.width(level) + x]);
+  };
+  int checked = 0;
+  for (const Texture* tex : {&t, &p2})
+    for (int level = 0; level < tex->levels(); ++level)
+      for (Wrap wu : {Wrap::kRepeat, Wrap::kClamp})
+        for (Wrap wv : {Wrap::kRepeat, Wrap::kClamp}) {
+          const int w = tex->width(level), h = tex->height(level);
+          const Texture::Footprints f = tex->r8_footprints(level, wu, wv);
+          ASSERT_NE(f.words, nullptr);
+          EXPECT_EQ(f.width, w + (wu == Wrap::kClamp ? 1 : 0));
+          for (int iy : {-1000003, -2 * h - 1, -h, -2, -1, 0, 1, h / 2, h - 2, h - 1, h, h + 1,
+                         3 * h + 2, 999999})
+            for (int ix : {-1000003, -2 * w - 1, -w, -2, -1, 0, 1, w / 2, w - 2, w - 1, w, w + 1,
+                           3 * w + 2, 999999}) {
+              const int col = footprint_cell(ix, w, wu), row = footprint_cell(iy, h, wv);
+              ASSERT_GE(col, 0);
+              ASSERT_LT(col, f.width);
+              ASSERT_GE(row, 0);
+              ASSERT_LT(row, h + (wv == Wrap::kClamp ? 1 : 0));
+              const int x0 = ref_wrap(ix, w, wu), x1 = ref_wrap(ix + 1LL, w, wu);
+              const int y0 = ref_wrap(iy, h, wv), y1 = ref_wrap(iy + 1LL, h, wv);
+              const uint32_t want = texel(*tex, level, x0, y0) | texel(*tex, level, x1, y0) << 8 |
+                                    texel(*tex, level, x0, y1) << 16 |
+                                    texel(*tex, level, x1, y1) << 24;
+              ASSERT_EQ(f.words[static_cast<size_t>(row) * f.width + col], want)
+                  << w << "x" << h << " level " << level << " corner " << ix << "," << iy;
+              ++checked;
+            }
+        }
+  EXPECT_EQ(checked, (t.levels() + p2.levels()) * 4 * 14 * 14);
+
+  EXPECT_EQ(t.r8_footprints(0, Wrap::kMirror, Wrap::kRepeat).words, nullptr);
+  EXPECT_EQ(t.r8_footprints(0, Wrap::kRepeat, Wrap::kMirror).words, nullptr);
+  EXPECT_EQ(t.r8_footprints(t.levels(), Wrap::kRepeat, Wrap::kRepeat).words, nullptr);
+  const Texture rgba = Texture::from_floats(TexFormat::kRGBA8, 4, 4, random_values(64, 93).data());
+  EXPECT_EQ(rgba.r8_footprints(0, Wrap::kRepeat, Wrap::kRepeat).words, nullptr);
+
+  // a copy shares them; changed levels get their own
+  Texture copy = t;
+  EXPECT_EQ(copy.r8_footprints(1, Wrap::kRepeat, Wrap::kRepeat).words,
+            t.r8_footprints(1, Wrap::kRepeat, Wrap::kRepeat).words);
+  copy.dilate_mips(MipReduce::kMax, Wrap::kRepeat, Wrap::kRepeat);
+  const Texture::Footprints dilated = copy.r8_footprints(1, Wrap::kRepeat, Wrap::kRepeat);
+  EXPECT_NE(dilated.words, t.r8_footprints(1, Wrap::kRepeat, Wrap::kRepeat).words);
+  for (int y = 0; y < copy.height(1); ++y)
+    for (int x = 0; x < copy.width(1); ++x)
+      ASSERT_EQ(dilated.words[static_cast<size_t>(y) * dilated.width + x] & 0xffu,
+                texel(copy, 1, x, y));
+}
+
 }  // namespace
 }  // namespace relief

@@ -12,20 +12,13 @@
 #include "shaders_cpp/sampling.h"
 #include "shaders_cpp/sampling_simd.h"
 #include "tests/shaders_cpp/float_bits.h"
+#include "tests/shaders_cpp/random_texture.h"
 
 namespace relief {
 namespace {
 
 using testing::float_bits;
-
-Texture random_texture(TexFormat f, int w, int h, ColorSpace cs, uint32_t seed) {
-  std::mt19937 rng(seed);
-  std::vector<uint8_t> texels(size_t(w) * h * format_bytes_per_texel(f));
-  for (auto& b : texels) b = static_cast<uint8_t>(rng());
-  Texture t(f, w, h, texels.data(), cs);
-  t.generate_mips();
-  return t;
-}
+using testing::random_texture;
 
 TEST(Sampling, Unorm8DecodeEqualsTheTable) {
   for (int i = 0; i < 256; ++i) {
@@ -50,10 +43,7 @@ TEST(Sampling, TextureLodMatchesSampleLodBitForBit) {
              {Filter::kNearest, Filter::kBilinear, Filter::kTrilinear, Filter::kAnisotropic})
           for (Wrap wu : {Wrap::kRepeat, Wrap::kClamp})
             for (Wrap wv : {Wrap::kRepeat, Wrap::kClamp}) {
-              SamplerState s;
-              s.filter = filter;
-              s.wrap_u = wu;
-              s.wrap_v = wv;
+              const SamplerState s = testing::sampler_state(filter, wu, wv);
               ASSERT_TRUE(HWY_NAMESPACE::detail::vector_sampling_ok(t, s));
               for (int n = 0; n < 16; ++n) {
                 F8 u, v, lod;
@@ -206,8 +196,9 @@ TEST(Sampling, GradLodMemoGivesTextureGradBits) {
 }
 
 // A prepared read (RLodPlan: levels chosen once for the lanes' LODs, a read entry specialised for
-// format and filter) gives texture_r_lod's bits for every format, filter and wrap, power-of-two
-// and other sizes, with the two quads' LODs on one level (the specialised reads) and on
+// format and filter; R8 bilinear levels through their footprint words) gives texture_r_lod's bits
+// for every format, filter and wrap, power-of-two and other sizes, uv near and far from the
+// texture, with the two quads' LODs on one level (the specialised reads) and on
 // different ones (the whole sampler per read); a plan is prepared again when its texture,
 // sampler or LODs change.
 TEST(Sampling, PlannedReadMatchesTextureRLodBitForBit) {
@@ -233,6 +224,13 @@ TEST(Sampling, PlannedReadMatchesTextureRLodBitForBit) {
               for (int i = 0; i < 8; ++i) {
                 uv.x.set(i, uvd(rng));
                 uv.y.set(i, uvd(rng));
+              }
+              if (r == 3) {  // far from the texture, and on its edges: the wraps' extremes
+                constexpr float kFar[8] = {-3e9f, 3e9f, -1e5f, 1e5f, 0.0f, 1.0f, -0.0f, 2.0f};
+                for (int i = 0; i < 8; ++i) {
+                  uv.x.set(i, kFar[(i + n) % 8]);
+                  uv.y.set(i, kFar[(i + 3 * n + 1) % 8]);
+                }
               }
               const F8 got = texture_r_lod_planned(t, s, lod, uv, plan);
               const F8 want = texture_r_lod(t, s, uv, F8::load(lod));
