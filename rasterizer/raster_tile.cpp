@@ -29,7 +29,6 @@ namespace {
 typedef float vf __attribute__((vector_size(32)));
 typedef int32_t vi __attribute__((vector_size(32)));
 typedef float vf4 __attribute__((vector_size(16)));
-typedef float vf8 __attribute__((vector_size(32)));
 typedef int32_t vi4 __attribute__((vector_size(16)));
 
 // Where a tile's fragments land: pixel (x, y) is element (y - y0) * stride + (x - x0) of each
@@ -83,10 +82,10 @@ void write_full_quad(const FragmentPacket& p, const FragmentOutput& o, const Wor
   const vf4 p1 = __builtin_shufflevector(rg01, ba01, 2, 3, 6, 7);
   const vf4 p2 = __builtin_shufflevector(rg23, ba23, 0, 1, 4, 5);
   const vf4 p3 = __builtin_shufflevector(rg23, ba23, 2, 3, 6, 7);
-  const vf8 top = __builtin_shufflevector(p0, p1, 0, 1, 2, 3, 4, 5, 6, 7);
-  const vf8 bottom = __builtin_shufflevector(p2, p3, 0, 1, 2, 3, 4, 5, 6, 7);
-  std::memcpy(&px.color_at(x, y), &top, sizeof(vf8));
-  std::memcpy(&px.color_at(x, y + 1), &bottom, sizeof(vf8));
+  const vf top = __builtin_shufflevector(p0, p1, 0, 1, 2, 3, 4, 5, 6, 7);
+  const vf bottom = __builtin_shufflevector(p2, p3, 0, 1, 2, 3, 4, 5, 6, 7);
+  std::memcpy(&px.color_at(x, y), &top, sizeof(vf));
+  std::memcpy(&px.color_at(x, y + 1), &bottom, sizeof(vf));
 }
 
 void flush(Worker& w, const TilePixels& px, Framebuffer& fb, const DrawCall& dc) {

@@ -611,10 +611,9 @@ void Texture::dilate_mips(MipReduce reduce, Wrap wrap_u, Wrap wrap_v) {
 
 // Per level and wrap pair (repeat or clamp each way): the footprint words, built once.
 struct Texture::FootprintCache {
-  explicit FootprintCache(size_t levels) : once(levels * 4), words(levels * 4), width(levels * 4) {}
+  explicit FootprintCache(size_t levels) : once(levels * 4), words(levels * 4) {}
   std::vector<std::once_flag> once;
-  std::vector<std::vector<uint32_t>> words;
-  std::vector<int> width;
+  std::vector<std::vector<uint32_t>> words;  // a row is the level's width (+ 1 for clamp)
 };
 
 void Texture::reset_footprints() {
@@ -652,9 +651,8 @@ Texture::Footprints Texture::r8_footprints(int level, Wrap wrap_u, Wrap wrap_v) 
                                                  uint32_t{d[y1 + x1]} << 24;
       }
     }
-    c.width[slot] = cols;
   });
-  return {c.words[slot].data(), c.width[slot]};
+  return {c.words[slot].data(), cols};
 }
 
 glm::vec4 Texture::fetch(int level, int x, int y) const {
