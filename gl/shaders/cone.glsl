@@ -24,19 +24,7 @@ uniform ivec3 texture_sampler[kMaxTextureSlots];
 // Depth units an occluder must rise above the shadow ray (plugins/cone_shell.h).
 const float kConeShadowBias = 0.001;
 
-// rasterizer/texture.h wrap_texel (GLSL's % is undefined for negative operands).
-int wrap_texel(int i, int size, int w) {
-  if (i >= 0 && i < size) return i;
-  if (w == kWrapClamp) return i < 0 ? 0 : size - 1;
-  if (w == kWrapMirror) {
-    int p = 2 * size;
-    int m = i >= 0 ? i % p : (p - 1) - ((-i - 1) % p);
-    int a = m - size;
-    int mirrored = a >= 0 ? a : -(1 + a);
-    return (size - 1) - mirrored;
-  }
-  return i >= 0 ? i % size : (size - 1) - ((-i - 1) % size);
-}
+#include "wrap.glsl"
 
 // rasterizer/texture.cpp: sanitize_lod, nearest_level, scaled_coord.
 float sanitize_lod(float lod) { return isnan(lod) ? 0.0 : clamp(lod, -64.0, 64.0); }
@@ -81,8 +69,8 @@ float sample_bilinear_r(int slot, vec2 uv, int level) {
   precise float a = xf - fx;
   precise float b = yf - fy;
   int ix = int(fx), iy = int(fy);
-  int x0 = wrap_texel(ix, size.x, s.y), x1 = wrap_texel(ix + 1, size.x, s.y);
-  int y0 = wrap_texel(iy, size.y, s.z), y1 = wrap_texel(iy + 1, size.y, s.z);
+  ivec2 xs = wrap_pair(ix, size.x, s.y), ys = wrap_pair(iy, size.y, s.z);
+  int x0 = xs.x, x1 = xs.y, y0 = ys.x, y1 = ys.y;
   float t00 = texelFetch(textures[slot], ivec2(x0, y0), level).r;
   float t10 = texelFetch(textures[slot], ivec2(x1, y0), level).r;
   float t01 = texelFetch(textures[slot], ivec2(x0, y1), level).r;
