@@ -44,26 +44,24 @@ namespace {
 // ---------------------------------------------------------------------------------------------
 // Scalar conversions.
 
-float half_to_float(uint16_t h) {
+// Exact for every half: normals rebias the exponent with one integer add, subnormals and zeros
+// are mant * 2^-24 in float arithmetic (a normal float, so no denormal mode can touch it), and
+// infinities and NaNs keep their payload. No loop, so it inlines into the texel decoders (the
+// normalising loop it replaced kept it out of line: 12% of a `cone_quad` frame, whose RGBA16F cone
+// map decodes four halves a read).
+inline float half_to_float(uint16_t h) {
   const uint32_t sign = static_cast<uint32_t>(h & 0x8000u) << 16;
-  const uint32_t exp = (h >> 10) & 0x1fu;
-  uint32_t mant = h & 0x3ffu;
+  const uint32_t magnitude = h & 0x7fffu;
   uint32_t bits;
-  if (exp == 0x1fu) {
-    bits = sign | 0x7f800000u | (mant << 13);  // inf / NaN
-  } else if (exp != 0) {
-    bits = sign | ((exp + 112u) << 23) | (mant << 13);  // normal: rebias 15 -> 127
-  } else if (mant == 0) {
-    bits = sign;  // signed zero
+  if (magnitude >= 0x7c00u) {
+    bits = 0x7f800000u | ((magnitude & 0x3ffu) << 13);  // inf / NaN
+  } else if (magnitude >= 0x0400u) {
+    bits = (magnitude << 13) + (112u << 23);  // normal: rebias 15 -> 127
   } else {
-    // Subnormal half: normalise the mantissa.
-    uint32_t e = 113;
-    while ((mant & 0x400u) == 0) {
-      mant <<= 1;
-      --e;
-    }
-    bits = sign | (e << 23) | ((mant & 0x3ffu) << 13);
+    const float f = static_cast<float>(magnitude) * 0x1p-24f;  // subnormal or zero
+    std::memcpy(&bits, &f, sizeof bits);
   }
+  bits |= sign;
   float f;
   std::memcpy(&f, &bits, sizeof f);
   return f;

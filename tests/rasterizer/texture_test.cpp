@@ -188,6 +188,37 @@ TEST(Texture, HalfFloatEncodingAndDecoding) {
   EXPECT_EQ(std::memcmp(a.level(0).data.data(), b.level(0).data.data(), all.size() * 2), 0);
 }
 
+// Every finite half (zeros, subnormals, normals, both signs) decodes to the value of its fields,
+// bit for bit (so -0 stays -0), in R16F and in each channel of RGBA16F.
+TEST(Texture, EveryFiniteHalfDecodesToItsValue) {
+  std::vector<uint16_t> all;
+  for (uint32_t b = 0; b < 0x10000; ++b)
+    if ((b & 0x7c00u) != 0x7c00u) all.push_back(static_cast<uint16_t>(b));
+  const int n = static_cast<int>(all.size());
+  const Texture r(TexFormat::kR16F, n, 1, all.data());
+  std::vector<uint16_t> quads(all.size() * 4);
+  for (size_t i = 0; i < all.size(); ++i)
+    for (int c = 0; c < 4; ++c) quads[4 * i + c] = all[(i + 4096 * c) % all.size()];
+  const Texture q(TexFormat::kRGBA16F, n, 1, quads.data());
+  auto value = [](uint16_t h) {
+    const int e = (h >> 10) & 0x1f, m = h & 0x3ff;
+    const float v = e == 0 ? std::ldexp(static_cast<float>(m), -24)
+                           : std::ldexp(static_cast<float>(1024 + m), e - 25);
+    return (h & 0x8000u) ? -v : v;
+  };
+  auto same_bits = [](float a, float b) { return std::memcmp(&a, &b, sizeof a) == 0; };
+  int wrong = 0;
+  for (int i = 0; i < n; ++i) {
+    if (!same_bits(r.fetch_r(0, i, 0), value(all[i])) && ++wrong <= 5)
+      ADD_FAILURE() << "R16F 0x" << std::hex << all[i] << ": " << r.fetch_r(0, i, 0);
+    const glm::vec4 t = q.fetch(0, i, 0);
+    for (int c = 0; c < 4; ++c)
+      if (!same_bits(t[c], value(quads[4 * i + c])) && ++wrong <= 5)
+        ADD_FAILURE() << "RGBA16F 0x" << std::hex << quads[4 * i + c] << ": " << t[c];
+  }
+  EXPECT_EQ(wrong, 0);
+}
+
 TEST(Texture, NonFiniteStoredValuesAreSanitized) {
   const float in[] = {std::numeric_limits<float>::quiet_NaN(),
                       std::numeric_limits<float>::infinity(),
