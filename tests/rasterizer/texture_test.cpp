@@ -146,6 +146,14 @@ TEST(Texture, FormatsRoundTripWithinPrecision) {
   }
 }
 
+// Every half bit pattern but infinities and NaNs (exponent field 31).
+std::vector<uint16_t> finite_halves() {
+  std::vector<uint16_t> all;
+  for (uint32_t b = 0; b < 0x10000; ++b)
+    if ((b & 0x7c00u) != 0x7c00u) all.push_back(static_cast<uint16_t>(b));
+  return all;
+}
+
 TEST(Texture, HalfFloatEncodingAndDecoding) {
   // Raw half bits decode exactly.
   const uint16_t bits[] = {0x3c00, 0xc000, 0x0001, 0x03ff, 0x7bff, 0x3555, 0x8000};
@@ -178,9 +186,7 @@ TEST(Texture, HalfFloatEncodingAndDecoding) {
   for (int i = 0; i < 9; ++i) EXPECT_EQ(e.fetch_r(0, i, 0), out[i]) << i;
 
   // Every finite half survives float -> half -> float unchanged.
-  std::vector<uint16_t> all;
-  for (uint32_t b = 0; b < 0x10000; ++b)
-    if ((b & 0x7c00u) != 0x7c00u) all.push_back(static_cast<uint16_t>(b));
+  const std::vector<uint16_t> all = finite_halves();
   const Texture a(TexFormat::kR16F, static_cast<int>(all.size()), 1, all.data());
   std::vector<float> f(all.size());
   for (size_t i = 0; i < all.size(); ++i) f[i] = a.fetch_r(0, static_cast<int>(i), 0);
@@ -191,9 +197,7 @@ TEST(Texture, HalfFloatEncodingAndDecoding) {
 // Every finite half (zeros, subnormals, normals, both signs) decodes to the value of its fields,
 // bit for bit (so -0 stays -0), in R16F and in each channel of RGBA16F.
 TEST(Texture, EveryFiniteHalfDecodesToItsValue) {
-  std::vector<uint16_t> all;
-  for (uint32_t b = 0; b < 0x10000; ++b)
-    if ((b & 0x7c00u) != 0x7c00u) all.push_back(static_cast<uint16_t>(b));
+  const std::vector<uint16_t> all = finite_halves();
   const int n = static_cast<int>(all.size());
   const Texture r(TexFormat::kR16F, n, 1, all.data());
   std::vector<uint16_t> quads(all.size() * 4);
