@@ -34,12 +34,14 @@
 #endif
 
 #include <cmath>
+#include <type_traits>
 
 #include <glm/vec2.hpp>
 #include <glm/vec4.hpp>
 
 #include "rasterizer/texture.h"
 #include "shaders_cpp/lanes.h"
+#include "shaders_cpp/sampling_simd.h"
 #include "shaders_cpp/search.h"
 #include "shaders_cpp/vec.h"
 
@@ -95,18 +97,30 @@ struct QuadTextureCone {
   SamplerState sampler;
   float lod[kLanes] = {};
   int cu[kLanes] = {}, cv[kLanes] = {};
+  IN shift_u, shift_v;    // 16 (cu - 0) and 16 (cv - 2): where each lane's halves lie in a texel
+  mutable RLodPlan plan;  // quad_cone_lanes' (sampling_simd.h)
   // Picks each lane's pair of channels from the signs of its uv direction.
   template <class F>
   void aim(V2<F> ds) {
     for (int i = 0; i < lane_width<F>; ++i) {
       cu[i] = lane(ds.x, i) >= 0.0f ? 0 : 1;
       cv[i] = lane(ds.y, i) >= 0.0f ? 2 : 3;
+      set_lane(shift_u, i, 16 * cu[i]);
+      set_lane(shift_v, i, 16 * (cv[i] - 2));
     }
   }
   float operator()(int lane, float u, float v) const {
     const glm::vec4 r = sample_lod(*texture, sampler, glm::vec2(u, v), lod[lane]);
     const float a = r[cu[lane]], b = r[cv[lane]];
     return a < b ? b : a;
+  }
+  // The native lanes at once through quad_cone_lanes (bit-identical to operator() per lane).
+  template <class F>
+  F lanes(V2<F> uv) const {
+    if constexpr (std::is_same_v<F, FN>)
+      return quad_cone_lanes(*texture, sampler, lod, uv, shift_u, shift_v, plan);
+    else
+      return per_lane(uv.x, [&](int i) { return (*this)(i, lane(uv.x, i), lane(uv.y, i)); });
   }
 };
 

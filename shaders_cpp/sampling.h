@@ -254,6 +254,22 @@ inline F decode8(int_t<F> word, int c, const float* lut, bool srgb) {
   return table_lookup<F>(lut, byte);
 }
 
+// IEEE half (the low 16 bits of each lane of h) to float, texture.cpp's half_to_float over lanes:
+// a normal half rebiased by one integer add, a subnormal (or zero) as mant * 2^-24 in float
+// arithmetic (exact: a normal float), infinities and NaNs with their payload, then the sign. The
+// same bits as the scalar function for all 65536 halves (tests/shaders_cpp/sampling_test.cpp).
+template <class F>
+[[gnu::always_inline]] inline F half_to_float_lanes(const int_t<F>& h) {
+  using I = int_t<F>;
+  const I sign = (h & I(0x8000)) << 16;
+  const I mag = h & I(0x7fff);
+  const I normal = (mag << 13) + I(112 << 23);
+  const I special = I(0x7f800000) | ((mag & I(0x3ff)) << 13);
+  const I subnormal = bits_of(to_float(mag) * F(0x1p-24f));
+  const I bits = select(mag >= I(0x7c00), special, select(mag >= I(0x0400), normal, subnormal));
+  return float_of_bits(bits | sign);
+}
+
 // Channel c of a texel word of format kFmt: 8-bit channels through decode8, R32F's one float as
 // its bits (texture.cpp's Codec: missing channels read 0, alpha 1).
 template <TexFormat kFmt, class F>

@@ -71,13 +71,83 @@ FN texture_r_lod_lanes(const Texture& t, const SamplerState& s, const V2<FN>& uv
   }
 }
 
-void prepare_r_lod(const Texture& t, const SamplerState& s, const float* lod, RLodPlan* plan) {
-  RLodPlan& p = *plan;
+namespace {
+
+// A plan for t, s and lod that reads through the whole sampler (planned_mixed) until the caller
+// specialises it.
+void begin_plan(const Texture& t, const SamplerState& s, const float* lod, RLodPlan& p) {
   p.texture = &t;
   p.sampler = s;
   std::memcpy(p.lod, lod, sizeof(p.lod));
   p.read = &planned_mixed;
   p.shared_levels = false;
+}
+
+// quad_cone_lanes' plan: level[0] and pow2 set, and shared_levels, where the lanes can be read
+// together (an RGBA16F texture, nearest filtering, clamp or repeat wraps, one level for every
+// lane).
+void prepare_quad_cone(const Texture& t, const SamplerState& s, const float* lod, RLodPlan& p) {
+  begin_plan(t, s, lod, p);
+  const auto lanes_wrap = [](Wrap w) { return w == Wrap::kClamp || w == Wrap::kRepeat; };
+  if (t.format() != TexFormat::kRGBA16F || s.filter != Filter::kNearest || t.empty() ||
+      !lanes_wrap(s.wrap_u) || !lanes_wrap(s.wrap_v))
+    return;
+  const int lvl = detail::lod_levels(t.levels(), s.filter, lod[0]).lo;
+  for (int i = 1; i < kLanes; ++i)
+    if (detail::lod_levels(t.levels(), s.filter, lod[i]).lo != lvl) return;
+  p.shared_levels = true;
+  p.pow2 = detail::pow2_texture(t);
+  const MipLevel& m = t.level(lvl);
+  p.level[0] = {lvl, detail::level_size(t, lvl), {&m, detail::can_gather<FN>(m)}};
+}
+
+}  // namespace
+
+FN quad_cone_lanes(const Texture& t, const SamplerState& s, const float* lod, const V2<FN>& uv,
+                   const IN& shift_u, const IN& shift_v, RLodPlan& plan) {
+  if (!plan.prepared_for(t, s, lod)) prepare_quad_cone(t, s, lod, plan);
+  if (!plan.shared_levels) {  // lane by lane: any format, filter or wrap, lanes on several levels
+    FN r;
+    for (int i = 0; i < kLanes; ++i) {
+      const glm::vec4 c = sample_lod(t, s, glm::vec2(lane(uv.x, i), lane(uv.y, i)), lod[i]);
+      const float a = c[lane(shift_u, i) / 16], b = c[2 + lane(shift_v, i) / 16];
+      set_lane(r, i, a < b ? b : a);
+    }
+    return r;
+  }
+  // texture.cpp's sample_nearest at the plan's level (nearest_at's coordinates)
+  const RLodPlan::Level& l = plan.level[0];
+  const detail::LevelSize<IN> n{IN(l.size.w), IN(l.size.h), IN(l.size.w_shift)};
+  const FN xf = detail::floor_coord(detail::texel_coord(uv.x, to_float(n.w), FN(0.0f)));
+  const FN yf = detail::floor_coord(detail::texel_coord(uv.y, to_float(n.h), FN(0.0f)));
+  const IN x = detail::wrap_lanes(trunc_to_int(xf), n.w, s.wrap_u, plan.pow2);
+  const IN y = detail::wrap_lanes(trunc_to_int(yf), n.h, s.wrap_v, plan.pow2);
+  const IN idx = detail::row_offset(y, n, plan.pow2) + x;
+  IN lo, hi;  // each lane's texel: channels 0 and 1, channels 2 and 3
+  bool gathered = false;
+#if HWY_ARCH_X86 && HWY_TARGET <= HWY_AVX2
+  if (l.src.gather) {  // an 8-byte texel is the 4-byte words 2 idx and 2 idx + 1
+    detail::gather_pair4(*l.src.level, idx * IN(2), lo, hi);
+    gathered = true;
+  }
+#endif
+  if (!gathered) {
+    const uint8_t* d = l.src.level->data.data();
+    for (int i = 0; i < kLanes; ++i) {
+      uint32_t w[2];
+      std::memcpy(w, d + size_t(lane(idx, i)) * 8, 8);
+      set_lane(lo, i, static_cast<int32_t>(w[0]));
+      set_lane(hi, i, static_cast<int32_t>(w[1]));
+    }
+  }
+  const FN a = detail::half_to_float_lanes<FN>((lo >> shift_u) & IN(0xffff));
+  const FN b = detail::half_to_float_lanes<FN>((hi >> shift_v) & IN(0xffff));
+  return select(a < b, b, a);
+}
+
+void prepare_r_lod(const Texture& t, const SamplerState& s, const float* lod, RLodPlan* plan) {
+  RLodPlan& p = *plan;
+  begin_plan(t, s, lod, p);
   if (!detail::vector_sampling_ok(t, s)) return;
   // Lane by lane in float (the same bits as lod_levels over FN), once per distinct LOD: kernels
   // hold one LOD per quad, so lanes usually repeat their neighbour's.

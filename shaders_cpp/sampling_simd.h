@@ -65,6 +65,17 @@ inline FN texture_r_lod_planned(const Texture& t, const SamplerState& s, const f
   return plan.read(plan, uv);
 }
 
+// The quad-directional cone read (shaders_cpp/cone.h QuadTextureCone): per lane i, the larger
+// (`a < b ? b : a`) of channels 0 + shift_u[i] / 16 and 2 + shift_v[i] / 16 (shifts 0 or 16) of
+// sample_lod(t, s, uv, lod[i]), with its bits. An RGBA16F texture (the baked quad cone map) read
+// with nearest filtering and clamp or repeat wraps, every lane on one mip level, is read over the
+// lanes: the level chosen once for the LODs (`plan`, prepared again when the texture, sampler or
+// LODs change), one 8-byte load a lane (gathered on AVX2 and AVX-512), the two halves decoded
+// over the lanes. Anything else reads sample_lod lane by lane. `plan.read` stays a valid read of
+// channel 0 (the whole sampler per read).
+FN quad_cone_lanes(const Texture& t, const SamplerState& s, const float* lod, const V2<FN>& uv,
+                   const IN& shift_u, const IN& shift_v, RLodPlan& plan);
+
 // texture_r_lod for kernels over either lane type: native lanes through the out-of-line entry.
 template <class F>
 inline F texture_r_lod_call(const Texture& t, const SamplerState& s, const V2<F>& uv,

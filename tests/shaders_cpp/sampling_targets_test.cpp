@@ -8,6 +8,7 @@
 
 #include <cstdint>
 #include <cstring>
+#include <initializer_list>
 #include <random>
 #include <string>
 #include <vector>
@@ -35,22 +36,30 @@ namespace relief {
 namespace HWY_NAMESPACE {
 namespace {
 
-PlannedCheck check_planned_r8(uint32_t seed) {
+// Packets of reads against the scalar sampler, lane by lane: for each texture size (random texels
+// of `format`, full mip chains), filter and pair of wraps, 16 packets with one LOD per quad (every
+// quad on level 0 in a quarter of them) and three reads each, the third at uvs far off the texture
+// and on its edges. read(t, s, plan, n, lod, uv) reads packet n; want(t, s, n, lane, lod, u, v)
+// is that lane's scalar value; counted(plan) says whether the packet's plan adds to
+// footprint_plans.
+template <class Read, class Want, class Counted>
+PlannedCheck check_packets(uint32_t seed, TexFormat format, std::initializer_list<Filter> filters,
+                           std::initializer_list<Wrap> wraps_u, const Read& read, const Want& want,
+                           const Counted& counted) {
   PlannedCheck c;
   std::mt19937 rng(seed);
   std::uniform_real_distribution<float> uvd(-3.0f, 3.0f), lodd(-1.5f, 7.0f);
   constexpr float kFar[8] = {-3e9f, 3e9f, -1e5f, 1e5f, 0.0f, 1.0f, -0.0f, 2.0f};
   for (auto [w, h] : {std::pair{64, 32}, std::pair{37, 20}, std::pair{256, 256}, std::pair{1, 1}}) {
-    const Texture t = testing::random_texture(TexFormat::kR8, w, h, ColorSpace::kLinear,
+    const Texture t = testing::random_texture(format, w, h, ColorSpace::kLinear,
                                               seed + static_cast<uint32_t>(w * 7 + h));
-    for (Filter filter : {Filter::kBilinear, Filter::kTrilinear})
-      for (Wrap wu : {Wrap::kRepeat, Wrap::kClamp})
+    for (Filter filter : filters)
+      for (Wrap wu : wraps_u)
         for (Wrap wv : {Wrap::kRepeat, Wrap::kClamp}) {
           const SamplerState s = testing::sampler_state(filter, wu, wv);
           RLodPlan plan;
           for (int n = 0; n < 16; ++n) {
             float lod[kLanes];
-            // one LOD per quad; level 0 for every quad in a quarter of the packets
             for (int i = 0; i < kLanes; i += 4) {
               const float l = n % 4 == 0 ? 0.0f : lodd(rng);
               for (int k = 0; k < 4; ++k) lod[i + k] = l;
@@ -61,26 +70,65 @@ PlannedCheck check_planned_r8(uint32_t seed) {
                 u[i] = r == 2 ? kFar[(i + n) % 8] : uvd(rng);
                 v[i] = r == 2 ? kFar[(i + 3 * n + 1) % 8] : uvd(rng);
               }
-              const V2<FN> uv(FN::load(u), FN::load(v));
               alignas(64) float got[kLanes];
-              texture_r_lod_planned(t, s, lod, uv, plan).store(got);
+              read(t, s, plan, n, lod, V2<FN>(FN::load(u), FN::load(v))).store(got);
               for (int i = 0; i < kLanes; ++i) {
-                const float want = sample_r_lod(t, s, glm::vec2(u[i], v[i]), lod[i]);
+                const float expected = want(t, s, n, i, lod[i], u[i], v[i]);
                 ++c.checked;
-                if (std::memcmp(&got[i], &want, sizeof(float)) != 0) {
-                  if (c.mismatched++ == 0)
-                    c.first_mismatch = std::to_string(w) + "x" + std::to_string(h) + " uv " +
-                                       std::to_string(u[i]) + "," + std::to_string(v[i]) + " lod " +
-                                       std::to_string(lod[i]) + ": " + std::to_string(got[i]) +
-                                       " vs " + std::to_string(want);
-                }
+                if (std::memcmp(&got[i], &expected, sizeof(float)) != 0 && c.mismatched++ == 0)
+                  c.first_mismatch = std::to_string(w) + "x" + std::to_string(h) + " uv " +
+                                     std::to_string(u[i]) + "," + std::to_string(v[i]) + " lod " +
+                                     std::to_string(lod[i]) + ": " + std::to_string(got[i]) +
+                                     " vs " + std::to_string(expected);
               }
             }
-            if (plan.shared_levels && plan.level[0].src.footprints.words) ++c.footprint_plans;
+            if (counted(plan)) ++c.footprint_plans;
           }
         }
   }
   return c;
+}
+
+PlannedCheck check_planned_r8(uint32_t seed) {
+  return check_packets(
+      seed, TexFormat::kR8, {Filter::kBilinear, Filter::kTrilinear}, {Wrap::kRepeat, Wrap::kClamp},
+      [](const Texture& t, const SamplerState& s, RLodPlan& plan, int, const float* lod,
+         const V2<FN>& uv) { return texture_r_lod_planned(t, s, lod, uv, plan); },
+      [](const Texture& t, const SamplerState& s, int, int, float lod, float u, float v) {
+        return sample_r_lod(t, s, glm::vec2(u, v), lod);
+      },
+      [](const RLodPlan& plan) {
+        return plan.shared_levels && plan.level[0].src.footprints.words;
+      });
+}
+
+// The channel pair of lane i in packet n: 0 or 16 each (the +-u and +-v halves of a texel).
+int quad_shift(int n, int i, int axis) {
+  return 16 * (((i * (axis + 3)) ^ (n >> axis) ^ (i >> 2)) & 1);
+}
+
+// quad_cone_lanes against the larger of the two channels of the scalar sample_lod, per lane, on
+// random RGBA16F texels (any finite half: subnormals, -0, both signs; the texture replaces
+// infinities and NaNs), with every wrap (mirrored ones read lane by lane) and LODs that put the
+// lanes on one level or on several.
+PlannedCheck check_quad_cone(uint32_t seed) {
+  return check_packets(
+      seed, TexFormat::kRGBA16F, {Filter::kNearest}, {Wrap::kRepeat, Wrap::kClamp, Wrap::kMirror},
+      [](const Texture& t, const SamplerState& s, RLodPlan& plan, int n, const float* lod,
+         const V2<FN>& uv) {
+        IN shift_u, shift_v;
+        for (int i = 0; i < kLanes; ++i) {
+          set_lane(shift_u, i, quad_shift(n, i, 0));
+          set_lane(shift_v, i, quad_shift(n, i, 1));
+        }
+        return quad_cone_lanes(t, s, lod, uv, shift_u, shift_v, plan);
+      },
+      [](const Texture& t, const SamplerState& s, int n, int i, float lod, float u, float v) {
+        const glm::vec4 texel = sample_lod(t, s, glm::vec2(u, v), lod);
+        const float a = texel[quad_shift(n, i, 0) / 16], b = texel[2 + quad_shift(n, i, 1) / 16];
+        return a < b ? b : a;
+      },
+      [](const RLodPlan& plan) { return plan.shared_levels; });  // here: read over the lanes
 }
 
 }  // namespace
@@ -112,6 +160,22 @@ TEST(SamplingTargets, PlannedR8ReadsGiveSampleRLodBitsOnEveryLevel) {
       EXPECT_GE(c.footprint_plans, 3 * 2 * 4 * 4) << simd_level_name(level);
     else
       EXPECT_EQ(c.footprint_plans, 0);
+  }
+  set_simd_level(saved);
+}
+
+HWY_EXPORT(check_quad_cone);
+
+TEST(SamplingTargets, QuadConeReadsGiveSampleLodBitsOnEveryLevel) {
+  const SimdLevel saved = simd_level();
+  for (SimdLevel level : simd_levels_supported()) {
+    set_simd_level(level);
+    const PlannedCheck c = HWY_DYNAMIC_DISPATCH(check_quad_cone)(17);
+    EXPECT_EQ(c.mismatched, 0) << simd_level_name(level) << ": " << c.first_mismatch;
+    constexpr long kReads = 4 * 3 * 2 * 16 * 3;  // sizes, wraps, packets, reads
+    EXPECT_TRUE(c.checked == kReads * 8 || c.checked == kReads * 16) << c.checked;
+    // read over the lanes: at least the packets on level 0 (a quarter) with unmirrored wraps
+    EXPECT_GE(c.footprint_plans, 4 * 2 * 2 * 4) << simd_level_name(level);
   }
   set_simd_level(saved);
 }

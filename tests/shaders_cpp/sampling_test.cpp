@@ -201,6 +201,40 @@ TEST(Sampling, GradLodMemoGivesTextureGradBits) {
 // texture, with the two quads' LODs on one level (the specialised reads) and on
 // different ones (the whole sampler per read); a plan is prepared again when its texture,
 // sampler or LODs change.
+// detail::half_to_float_lanes for all 65536 halves, in F8 and float: every finite half against
+// the scalar decode (an R16F texture read at each texel's centre; textures hold finite halves
+// only, texture.cpp's sanitize_level), infinities and NaNs as IEEE says.
+TEST(Sampling, HalfDecodeOverLanesEqualsTheScalarOneForEveryHalf) {
+  std::vector<uint16_t> halves(65536);
+  for (size_t i = 0; i < halves.size(); ++i) halves[i] = static_cast<uint16_t>(i);
+  const Texture t(TexFormat::kR16F, 256, 256, halves.data(), ColorSpace::kLinear);
+  SamplerState s;
+  s.filter = Filter::kNearest;
+  int finite = 0;
+  for (int base = 0; base < 65536; base += 8) {
+    I8 h;
+    for (int i = 0; i < 8; ++i) set_lane(h, i, base + i);
+    const F8 got = detail::half_to_float_lanes<F8>(h);
+    for (int i = 0; i < 8; ++i) {
+      const int k = base + i;
+      const float one = detail::half_to_float_lanes<float>(k);
+      ASSERT_EQ(float_bits(got[i]), float_bits(one)) << "half 0x" << std::hex << k;
+      if ((k & 0x7c00) == 0x7c00) {  // not in any texture
+        if ((k & 0x3ff) == 0)
+          EXPECT_EQ(one, (k & 0x8000) ? -INFINITY : INFINITY) << std::hex << k;
+        else
+          EXPECT_TRUE(std::isnan(one)) << std::hex << k;
+        continue;
+      }
+      ++finite;
+      const float want =
+          sample_r_lod(t, s, glm::vec2((k % 256 + 0.5f) / 256, (k / 256 + 0.5f) / 256), 0.0f);
+      ASSERT_EQ(float_bits(one), float_bits(want)) << "half 0x" << std::hex << k;
+    }
+  }
+  EXPECT_EQ(finite, 65536 - 2 * 1024);
+}
+
 TEST(Sampling, PlannedReadMatchesTextureRLodBitForBit) {
   std::mt19937 rng(23);
   std::uniform_real_distribution<float> uvd(-3.0f, 3.0f), lodd(-1.5f, 8.0f);
