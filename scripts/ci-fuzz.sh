@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Builds the libFuzzer targets (tests/fuzz) with clang-14 + ASan + UBSan (scripts/clang-sanitized.sh)
-# and runs each for FUZZ_SECONDS (default 60) from its seed corpus tests/fuzz/<target>/. Any crash,
-# leak, sanitizer report or timeout fails the script; libFuzzer leaves the reproducer in
+# and runs each for FUZZ_SECONDS (default 60), JOBS (default nproc) at a time, from its seed
+# corpus tests/fuzz/<target>/. Any crash, leak, sanitizer report or timeout fails the script;
+# libFuzzer leaves the reproducer in
 # $BUILD/crashes/. Usage: scripts/ci-fuzz.sh [build-dir]   (default build-fuzz; .ci/run passes
 # build-ci-asan, configured the same way by scripts/ci-sanitizers.sh, so the libraries are built
 # once for both).
@@ -30,19 +31,35 @@ mkdir -p "$BUILD/crashes"
 export ASAN_OPTIONS=detect_leaks=1:abort_on_error=1
 export LSAN_OPTIONS=suppressions=$PWD/tests/fuzz/lsan.supp
 export UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
-status=0
-for t in "${TARGETS[@]}"; do
+# fuzz_one TARGET: runs one target for its time; prints its line; fails when it found something.
+fuzz_one() {
+  local t=$1 t1 work
   t1=$(date +%s)
   work="$BUILD/corpus/$t"  # new inputs go here; the seeds in the repo stay untouched
   mkdir -p "$work"
-  if ! "$BUILD/bin/fuzz_$t" "$work" "tests/fuzz/$t" -max_total_time="$SECONDS_PER_TARGET" -seed="$SEED" -runs="$RUNS" \
+  local rc=0
+  "$BUILD/bin/fuzz_$t" "$work" "tests/fuzz/$t" -max_total_time="$SECONDS_PER_TARGET" -seed="$SEED" -runs="$RUNS" \
       -timeout=10 -rss_limit_mb=4096 -max_len=65536 -print_final_stats=1 \
-      -artifact_prefix="$BUILD/crashes/$t-" >"$BUILD/fuzz_$t.log" 2>&1; then
+      -artifact_prefix="$BUILD/crashes/$t-" >"$BUILD/fuzz_$t.log" 2>&1 || rc=$?
+  if [ "$rc" -ne 0 ]; then
     echo "ci-fuzz: fuzz_$t FOUND A FAILURE (log $BUILD/fuzz_$t.log, input $BUILD/crashes/):"
     grep -m 20 -E "ERROR|SUMMARY|runtime error|#[0-9]+ " "$BUILD/fuzz_$t.log" || tail -20 "$BUILD/fuzz_$t.log"
-    status=1
   fi
   echo "ci-fuzz: fuzz_$t $(( $(date +%s) - t1 )) s, $(grep -m1 -o 'stat::number_of_executed_units: *[0-9]*' "$BUILD/fuzz_$t.log" | grep -o '[0-9]*$' || echo '?') runs"
+  return "$rc"
+}
+# JOBS targets at a time (each libFuzzer process runs on one core): the same time a target, a
+# fraction of the wall time.
+status=0
+pids=()
+for t in "${TARGETS[@]}"; do
+  fuzz_one "$t" &
+  pids+=($!)
+  if [ "${#pids[@]}" -ge "$JOBS" ]; then
+    wait "${pids[0]}" || status=1
+    pids=("${pids[@]:1}")
+  fi
 done
+for p in "${pids[@]}"; do wait "$p" || status=1; done
 echo "ci-fuzz: total $(( $(date +%s) - t0 )) s"
 exit $status
