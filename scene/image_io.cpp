@@ -24,6 +24,7 @@
 #include "rasterizer/output_file.h"
 
 #include "rasterizer/safe_file.h"
+#include "scene/srgb_bytes.h"
 
 namespace relief {
 namespace {
@@ -44,9 +45,6 @@ Status fail(const std::string& path, const std::string& what) {
 
 double srgb_decode(double c) {
   return c <= 0.04045 ? c / 12.92 : std::pow((c + 0.055) / 1.055, 2.4);
-}
-double srgb_encode(double c) {
-  return c <= 0.0031308 ? c * 12.92 : 1.055 * std::pow(c, 1.0 / 2.4) - 0.055;
 }
 
 float finite_or_zero(float v) {
@@ -541,8 +539,8 @@ Result<std::vector<unsigned char>> encode_image(const std::string& path, const I
       std::vector<uint8_t> px(n * ch);
       for (size_t i = 0; i < n; ++i)
         for (int c = 0; c < ch; ++c) {
-          const double v = finite_or_zero(image.pixels[i][c]);
-          px[i * ch + c] = to_u8(c < 3 ? srgb_encode(clamp01(v)) : v);
+          const float v = finite_or_zero(image.pixels[i][c]);
+          px[i * ch + c] = c < 3 ? srgb_byte(v) : to_u8(v);
         }
       return encode_pixels(name, "png", spec, px.data());
     }
