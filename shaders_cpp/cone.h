@@ -91,27 +91,25 @@ struct TextureCone {
   }
 };
 
-// Quad-directional cones: channel cu (0: +u, 1: -u) and cv (2: +v, 3: -v) per lane, set by aim().
+// Quad-directional cones: per lane the +u or -u ratio (channel 0 or 1) and the +v or -v ratio
+// (channel 2 or 3), set by aim() as the bit offsets of those halves in a texel.
 struct QuadTextureCone {
   const Texture* texture = nullptr;
   SamplerState sampler;
   float lod[kLanes] = {};
-  int cu[kLanes] = {}, cv[kLanes] = {};
-  IN shift_u, shift_v;    // 16 (cu - 0) and 16 (cv - 2): where each lane's halves lie in a texel
+  IN shift_u, shift_v;    // 16 * (channel - 0) and 16 * (channel - 2) per lane
   mutable RLodPlan plan;  // quad_cone_lanes' (sampling_simd.h)
   // Picks each lane's pair of channels from the signs of its uv direction.
   template <class F>
   void aim(V2<F> ds) {
     for (int i = 0; i < lane_width<F>; ++i) {
-      cu[i] = lane(ds.x, i) >= 0.0f ? 0 : 1;
-      cv[i] = lane(ds.y, i) >= 0.0f ? 2 : 3;
-      set_lane(shift_u, i, 16 * cu[i]);
-      set_lane(shift_v, i, 16 * (cv[i] - 2));
+      set_lane(shift_u, i, lane(ds.x, i) >= 0.0f ? 0 : 16);
+      set_lane(shift_v, i, lane(ds.y, i) >= 0.0f ? 0 : 16);
     }
   }
   float operator()(int lane, float u, float v) const {
     const glm::vec4 r = sample_lod(*texture, sampler, glm::vec2(u, v), lod[lane]);
-    const float a = r[cu[lane]], b = r[cv[lane]];
+    const float a = r[shift_u[lane] / 16], b = r[2 + shift_v[lane] / 16];
     return a < b ? b : a;
   }
   // The native lanes at once through quad_cone_lanes (bit-identical to operator() per lane).

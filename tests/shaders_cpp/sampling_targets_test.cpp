@@ -145,11 +145,21 @@ namespace relief {
 namespace {
 
 HWY_EXPORT(check_planned_r8);
+HWY_EXPORT(check_quad_cone);
 
-TEST(SamplingTargets, PlannedR8ReadsGiveSampleRLodBitsOnEveryLevel) {
+// Calls check(level) at every SIMD level this CPU runs, that level set, then restores the level.
+template <class Check>
+void on_every_level(const Check& check) {
   const SimdLevel saved = simd_level();
   for (SimdLevel level : simd_levels_supported()) {
     set_simd_level(level);
+    check(level);
+  }
+  set_simd_level(saved);
+}
+
+TEST(SamplingTargets, PlannedR8ReadsGiveSampleRLodBitsOnEveryLevel) {
+  on_every_level([](SimdLevel level) {
     const PlannedCheck c = HWY_DYNAMIC_DISPATCH(check_planned_r8)(11);
     EXPECT_EQ(c.mismatched, 0) << simd_level_name(level) << ": " << c.first_mismatch;
     EXPECT_EQ(c.checked % 4, 0);
@@ -160,24 +170,18 @@ TEST(SamplingTargets, PlannedR8ReadsGiveSampleRLodBitsOnEveryLevel) {
       EXPECT_GE(c.footprint_plans, 3 * 2 * 4 * 4) << simd_level_name(level);
     else
       EXPECT_EQ(c.footprint_plans, 0);
-  }
-  set_simd_level(saved);
+  });
 }
 
-HWY_EXPORT(check_quad_cone);
-
 TEST(SamplingTargets, QuadConeReadsGiveSampleLodBitsOnEveryLevel) {
-  const SimdLevel saved = simd_level();
-  for (SimdLevel level : simd_levels_supported()) {
-    set_simd_level(level);
+  on_every_level([](SimdLevel level) {
     const PlannedCheck c = HWY_DYNAMIC_DISPATCH(check_quad_cone)(17);
     EXPECT_EQ(c.mismatched, 0) << simd_level_name(level) << ": " << c.first_mismatch;
     constexpr long kReads = 4 * 3 * 2 * 16 * 3;  // sizes, wraps, packets, reads
     EXPECT_TRUE(c.checked == kReads * 8 || c.checked == kReads * 16) << c.checked;
     // read over the lanes: at least the packets on level 0 (a quarter) with unmirrored wraps
     EXPECT_GE(c.footprint_plans, 4 * 2 * 2 * 4) << simd_level_name(level);
-  }
-  set_simd_level(saved);
+  });
 }
 
 }  // namespace
