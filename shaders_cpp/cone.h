@@ -108,9 +108,8 @@ struct QuadTextureCone {
     }
   }
   float operator()(int lane, float u, float v) const {
-    const glm::vec4 r = sample_lod(*texture, sampler, glm::vec2(u, v), lod[lane]);
-    const float a = r[shift_u[lane] / 16], b = r[2 + shift_v[lane] / 16];
-    return a < b ? b : a;
+    return quad_cone_pick(sample_lod(*texture, sampler, glm::vec2(u, v), lod[lane]), shift_u[lane],
+                          shift_v[lane]);
   }
   // The native lanes at once through quad_cone_lanes (bit-identical to operator() per lane).
   template <class F>

@@ -41,13 +41,17 @@ struct V4 {
 namespace detail {
 
 // Whether the lane-parallel path serves this texture and sampler (textureLod rules).
+// Wraps the lane paths compute (wrap_lanes): clamp and repeat on both axes.
+inline bool lane_wraps_ok(const SamplerState& s) {
+  const auto ok = [](Wrap w) { return w == Wrap::kClamp || w == Wrap::kRepeat; };
+  return ok(s.wrap_u) && ok(s.wrap_v);
+}
+
 inline bool vector_sampling_ok(const Texture& t, const SamplerState& s) {
   const TexFormat f = t.format();
   const bool lanes = f == TexFormat::kR8 || f == TexFormat::kRG8 || f == TexFormat::kRGBA8 ||
                      f == TexFormat::kR32F;
-  const bool wrap_u = s.wrap_u == Wrap::kClamp || s.wrap_u == Wrap::kRepeat;
-  const bool wrap_v = s.wrap_v == Wrap::kClamp || s.wrap_v == Wrap::kRepeat;
-  return lanes && wrap_u && wrap_v && !t.empty();
+  return lanes && lane_wraps_ok(s) && !t.empty();
 }
 
 // Wraps integer texel coordinates; `pow2` says every level size is a power of two.
@@ -192,10 +196,10 @@ inline I footprint_cells(const I& i, const I& size, Wrap w, bool pow2) {
   return wrap_lanes(i, size, w, pow2);
 }
 
-// Texels idx and idx + 1 of a 4-byte format (RGBA8, R32F; both inside the level, can_gather said
-// yes) a lane: one 8-byte gather per lane (two 8-lane gathers for 16 lanes, two 4-lane gathers
-// for 8), split into the first and second texel's words. Half the gathered elements of two
-// 4-byte gathers, the same words.
+// 4-byte words idx and idx + 1 of a level (both inside it, can_gather said yes) a lane: two texels
+// of a 4-byte format (RGBA8, R32F), or the two halves of the RGBA16F texel idx / 2. One 8-byte
+// gather per lane (two 8-lane gathers for 16 lanes, two 4-lane gathers for 8), split into the
+// first and second word. Half the gathered elements of two 4-byte gathers, the same words.
 #if HWY_ARCH_X86 && HWY_TARGET <= HWY_AVX2
 template <int N>
 [[gnu::always_inline]] inline void gather_pair4(const MipLevel& level, const IV<N>& idx,
@@ -440,18 +444,26 @@ template <TexFormat kFmt, int kUsed, class F>
   return {out[0], out[1], out[2], out[3]};
 }
 
+// The texel GL nearest filtering reads at uv on a level of size n (texture.cpp's sample_nearest):
+// its index in the level, row by row.
+template <class F>
+[[gnu::always_inline]] inline int_t<F> nearest_index(const SamplerState& s, V2<F> uv,
+                                                     const LevelSize<int_t<F>>& n, bool pow2) {
+  using I = int_t<F>;
+  const F xf = floor_coord(texel_coord(uv.x, to_float(n.w), F(0.0f)));
+  const F yf = floor_coord(texel_coord(uv.y, to_float(n.h), F(0.0f)));
+  const I x = wrap_lanes(trunc_to_int(xf), n.w, s.wrap_u, pow2);
+  const I y = wrap_lanes(trunc_to_int(yf), n.h, s.wrap_v, pow2);
+  return row_offset(y, n, pow2) + x;
+}
+
 // GL nearest at the mip level(s) `at` (texture.cpp's sample_nearest).
 template <TexFormat kFmt, int kUsed, class F>
 [[gnu::always_inline]] inline V4<F> nearest_at(const Texture& t, const SamplerState& s, V2<F> uv,
                                                const LevelAccess<int_t<F>>& at, bool pow2) {
   using I = int_t<F>;
   const I& lvl = at.lvl;
-  const LevelSize<I>& n = at.size;
-  const F xf = floor_coord(texel_coord(uv.x, to_float(n.w), F(0.0f)));
-  const F yf = floor_coord(texel_coord(uv.y, to_float(n.h), F(0.0f)));
-  const I x = wrap_lanes(trunc_to_int(xf), n.w, s.wrap_u, pow2);
-  const I y = wrap_lanes(trunc_to_int(yf), n.h, s.wrap_v, pow2);
-  const I idx = row_offset(y, n, pow2) + x;
+  const I idx = nearest_index<F>(s, uv, at.size, pow2);
   const WordSource& src = at.src;
   I word;
   if constexpr (kHwyLanes<F>)

@@ -88,9 +88,8 @@ void begin_plan(const Texture& t, const SamplerState& s, const float* lod, RLodP
 // lane).
 void prepare_quad_cone(const Texture& t, const SamplerState& s, const float* lod, RLodPlan& p) {
   begin_plan(t, s, lod, p);
-  const auto lanes_wrap = [](Wrap w) { return w == Wrap::kClamp || w == Wrap::kRepeat; };
   if (t.format() != TexFormat::kRGBA16F || s.filter != Filter::kNearest || t.empty() ||
-      !lanes_wrap(s.wrap_u) || !lanes_wrap(s.wrap_v))
+      !detail::lane_wraps_ok(s))
     return;
   const int lvl = detail::lod_levels(t.levels(), s.filter, lod[0]).lo;
   for (int i = 1; i < kLanes; ++i)
@@ -110,19 +109,14 @@ FN quad_cone_lanes(const Texture& t, const SamplerState& s, const float* lod, co
     FN r;
     for (int i = 0; i < kLanes; ++i) {
       const glm::vec4 c = sample_lod(t, s, glm::vec2(lane(uv.x, i), lane(uv.y, i)), lod[i]);
-      const float a = c[lane(shift_u, i) / 16], b = c[2 + lane(shift_v, i) / 16];
-      set_lane(r, i, a < b ? b : a);
+      set_lane(r, i, quad_cone_pick(c, lane(shift_u, i), lane(shift_v, i)));
     }
     return r;
   }
-  // texture.cpp's sample_nearest at the plan's level (nearest_at's coordinates)
+  // texture.cpp's sample_nearest at the plan's level
   const RLodPlan::Level& l = plan.level[0];
   const detail::LevelSize<IN> n{IN(l.size.w), IN(l.size.h), IN(l.size.w_shift)};
-  const FN xf = detail::floor_coord(detail::texel_coord(uv.x, to_float(n.w), FN(0.0f)));
-  const FN yf = detail::floor_coord(detail::texel_coord(uv.y, to_float(n.h), FN(0.0f)));
-  const IN x = detail::wrap_lanes(trunc_to_int(xf), n.w, s.wrap_u, plan.pow2);
-  const IN y = detail::wrap_lanes(trunc_to_int(yf), n.h, s.wrap_v, plan.pow2);
-  const IN idx = detail::row_offset(y, n, plan.pow2) + x;
+  const IN idx = detail::nearest_index<FN>(s, uv, n, plan.pow2);
   IN lo, hi;  // each lane's texel: channels 0 and 1, channels 2 and 3
   bool gathered = false;
 #if HWY_ARCH_X86 && HWY_TARGET <= HWY_AVX2

@@ -65,6 +65,13 @@ inline FN texture_r_lod_planned(const Texture& t, const SamplerState& s, const f
   return plan.read(plan, uv);
 }
 
+// The quad-directional cone map's value in one texel c (its four channels): the larger of
+// channels shift_u / 16 and 2 + shift_v / 16 (shifts 0 or 16).
+inline float quad_cone_pick(const glm::vec4& c, int shift_u, int shift_v) {
+  const float a = c[shift_u / 16], b = c[2 + shift_v / 16];
+  return a < b ? b : a;
+}
+
 // The quad-directional cone read (shaders_cpp/cone.h QuadTextureCone): per lane i, the larger
 // (`a < b ? b : a`) of channels 0 + shift_u[i] / 16 and 2 + shift_v[i] / 16 (shifts 0 or 16) of
 // sample_lod(t, s, uv, lod[i]), with its bits. An RGBA16F texture (the baked quad cone map) read
