@@ -12,6 +12,7 @@
 // GREATER against a float32 buffer cleared to 0.
 #pragma once
 
+#include <atomic>
 #include <cstdint>
 #include <memory>
 #include <span>
@@ -72,6 +73,8 @@ struct RasterStats {
   uint64_t triangles_clipped = 0;  // went through the clipper
   uint64_t triangles_binned = 0;   // after clipping
   uint64_t quads = 0;              // quads with coverage handed to shaders
+  uint64_t tiles = 0;              // tiles of the target
+  uint64_t tiles_drawn = 0;        // tiles drawn (all by draw(); on demand, those asked for)
   WorkCounters work;               // summed over threads
   double setup_ms = 0.0;           // vertices, clip, setup, binning (parallel steps)
   double raster_ms = 0.0;          // parallel: traversal and shading
@@ -117,6 +120,23 @@ class Rasterizer {
   RasterStats draw(Framebuffer& fb, std::span<const DrawCall> draws,
                    const ClearValues* clear = nullptr);
   const RasterConfig& config() const { return config_; }
+
+  // Drawing on demand, for a target of which later readers need only part (the CPU backend's
+  // shadow maps: the tiles the main pass's lookups reach). prepare() sets `draws` up for `fb` as
+  // draw() does and draws nothing. draw_tile(t) then draws tile t (row by row, tiles of
+  // config().tile_size) exactly as draw() would, cleared to `*clear` first when given: from any
+  // thread, at most once; a second caller returns once the first has drawn it. drawn() holds 1
+  // for each drawn tile (stored with release order). finish() returns the counters of the tiles
+  // drawn, raster_ms being the thread time spent drawing them (summed over threads); `fb`, `draws`
+  // and `clear` must live until then. Tiles never drawn keep what `fb` held. Not re-entrant with
+  // draw() on the same Rasterizer.
+  void prepare(Framebuffer& fb, std::span<const DrawCall> draws,
+               const ClearValues* clear = nullptr);
+  void draw_tile(int tile);
+  const std::atomic<uint8_t>* drawn() const;
+  int tiles_x() const;
+  int tiles_y() const;
+  RasterStats finish();
 
  private:
   struct Impl;

@@ -395,6 +395,25 @@ void pattern_shader(const void*, const FragmentPacket& p, FragmentOutput& out, W
   }
 }
 
+// The three overlapping triangles as one draw through pattern_shader, and the clear it is drawn
+// over.
+struct PatternDraw {
+  std::vector<glm::vec4> clip;
+  std::vector<uint32_t> idx;
+  std::vector<float> vary;
+  PatternDraw() { overlapping_triangles(clip, idx); }
+  DrawCall draw(DepthTest mode) const {
+    DrawCall dc;
+    dc.clip = clip;
+    dc.varyings = vary;
+    dc.indices = idx;
+    dc.depth_test = mode;
+    dc.shader = &pattern_shader;
+    return dc;
+  }
+};
+const ClearValues kPatternClear{glm::vec4(0.25f, 0.5f, 0.75f, 1.0f), 0.0f};
+
 // Fully covered quads of a draw that tests depth early and writes colour without blending are
 // written four lanes at a time (raster_tile.cpp write_full_quad); every other fragment lane by
 // lane. Both must store each lane's colour at its own pixel, non-finite channels as 0, and the
@@ -402,21 +421,12 @@ void pattern_shader(const void*, const FragmentPacket& p, FragmentOutput& out, W
 // conservative depth test, the shader's depth being the polygon's), bit for bit.
 TEST(Pipeline, QuadWritesEqualLaneWrites) {
   ThreadPool pool(2);
-  std::vector<glm::vec4> clip;
-  std::vector<uint32_t> idx;
-  overlapping_triangles(clip, idx);
-  std::vector<float> vary;
+  const PatternDraw pattern;
   auto render = [&](DepthTest mode, RasterStats* stats) {
-    DrawCall dc;
-    dc.clip = clip;
-    dc.varyings = vary;
-    dc.indices = idx;
-    dc.depth_test = mode;
-    dc.shader = &pattern_shader;
+    const DrawCall dc = pattern.draw(mode);
     Framebuffer fb(kW, kH);
     Rasterizer r(pool, RasterConfig{32});
-    const ClearValues clear{glm::vec4(0.25f, 0.5f, 0.75f, 1.0f), 0.0f};
-    *stats = r.draw(fb, std::span<const DrawCall>(&dc, 1), &clear);
+    *stats = r.draw(fb, std::span<const DrawCall>(&dc, 1), &kPatternClear);
     return fb;
   };
   RasterStats quads, lanes;
@@ -451,6 +461,54 @@ TEST(Pipeline, QuadWritesEqualLaneWrites) {
     }
   EXPECT_GT(drawn, 5000);
   EXPECT_GT(zeroed, 1000);
+}
+
+// Drawing on demand (Rasterizer::prepare, draw_tile, finish): tiles asked for from several
+// threads at once, each tile by several of them, come out as draw() draws them, each drawn once
+// (the counters are draw()'s), and the tiles never asked for keep what the target held.
+TEST(Pipeline, TilesDrawnOnDemandEqualTheWholeDrawAndAreDrawnOnce) {
+  ThreadPool pool(4);
+  const PatternDraw pattern;
+  const DrawCall dc = pattern.draw(DepthTest::kConservative);
+  const std::span<const DrawCall> draws(&dc, 1);
+  const ClearValues& clear = kPatternClear;
+  for (int tile : {8, 32, 48}) {
+    Framebuffer whole(kW, kH);
+    const RasterStats ref = Rasterizer(pool, RasterConfig{tile}).draw(whole, draws, &clear);
+    Rasterizer r(pool, RasterConfig{tile});
+    for (int round = 0; round < 2; ++round) {  // the second reuses the first's state
+      Framebuffer fb(kW, kH);
+      for (glm::vec4& c : fb.color.pixels) c = glm::vec4(9.0f);
+      std::fill(fb.depth.values.begin(), fb.depth.values.end(), 0.125f);
+      r.prepare(fb, draws, &clear);
+      const int tiles = r.tiles_x() * r.tiles_y();
+      ASSERT_EQ(r.tiles_x(), (kW + tile - 1) / tile);
+      // round 0: every tile, each asked for by 4 tasks; round 1: the even tiles only
+      const int step = round == 0 ? 1 : 2;
+      pool.run(4 * tiles, [&](int task, int) {
+        const int t = task % tiles;
+        if (t % step == 0) r.draw_tile(t);
+      });
+      const RasterStats got = r.finish();
+      if (round == 0) {
+        EXPECT_EQ(got.work.fragments, ref.work.fragments) << "tile " << tile;
+        EXPECT_EQ(got.quads, ref.quads);
+        EXPECT_EQ(got.triangles_binned, ref.triangles_binned);
+      } else {
+        EXPECT_LT(got.work.fragments, ref.work.fragments);
+      }
+      for (int y = 0; y < kH; ++y)
+        for (int x = 0; x < kW; ++x) {
+          const int t = (y / tile) * r.tiles_x() + x / tile;
+          const bool drawn = t % step == 0;
+          ASSERT_EQ(r.drawn()[t].load(), drawn ? 1 : 0);
+          const glm::vec4 want_c = drawn ? whole.color.at(x, y) : glm::vec4(9.0f);
+          const float want_z = drawn ? whole.depth.at(x, y) : 0.125f;
+          ASSERT_EQ(std::memcmp(&fb.color.at(x, y), &want_c, sizeof want_c), 0) << x << "," << y;
+          ASSERT_EQ(fb.depth.at(x, y), want_z) << x << "," << y;
+        }
+    }
+  }
 }
 
 // Tiles are drawn in a copy of their pixels (raster_tile.cpp TilePixels) and written back: a draw
