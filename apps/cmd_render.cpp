@@ -58,6 +58,7 @@ struct RenderArgs {
   bool no_self_shadow = false;
   ShadowSettings shadow;
   std::string shadow_size = "light";
+  bool whole_shadow_maps = false;
   std::string gl_interpolation = "gpu";
   std::string frames;  // LIST (apps/frames.h)
   std::string shard;   // I/N
@@ -126,6 +127,8 @@ nlohmann::json stats_json(const RenderResult& r, const std::string& scene, int w
     pj["triangles_clipped"] = s.triangles_clipped;
     pj["triangles_binned"] = s.triangles_binned;
     pj["quads"] = s.quads;
+    pj["tiles"] = s.tiles;
+    pj["tiles_drawn"] = s.tiles_drawn;
     pj["fragments_shaded"] = s.work.fragments;
     pj["fragments_discarded"] = s.work.discarded;
     pj["texture_fetches"] = s.work.texture_fetches;
@@ -430,6 +433,7 @@ Status parse_frame_options(const RenderArgs& a, RenderJob& job) {
   if (a.shadow_size != "view" && a.shadow_size != "light")
     return Status::usage("--shadow-size: expected view or light, got '" + a.shadow_size + "'");
   opt.shadow_size = a.shadow_size == "view" ? ShadowSize::kView : ShadowSize::kLight;
+  opt.shadow_on_demand = !a.whole_shadow_maps;
   RELIEF_RETURN_IF_ERROR(parse_params(a.params, opt));
   RELIEF_RETURN_IF_ERROR(apply_environment_options(a.env, opt));
   opt.height_ao_rays = a.height_ao;
@@ -877,6 +881,9 @@ void register_render(CLI::App& app, Action& action) {
                   "most that, no more than a texel per pixel of this view: faster small frames, "
                   "coarser shadow detail)")
       ->capture_default_str();
+  sub->add_flag("--whole-shadow-maps", a->whole_shadow_maps,
+                "CPU: draw every texel of each shadow map before the main pass, instead of the "
+                "tiles the main pass's lookups reach (the image is the same; for timing)");
   sub->add_option("--frames", a->frames,
                   "Frames: N, A-B, A-B:STEP, comma-separated (1,5,10-20,30-90:3): the scene's "
                   "animation at --fps, else a turntable (the camera orbits the scene's centre "

@@ -24,8 +24,9 @@
 
 namespace relief {
 
-inline constexpr uint32_t kPluginAbiVersion = 5;  // 2: reads_texture; 3: glTF material terms;
-                                                  // 4: height-field AO uniforms; 5: layers
+inline constexpr uint32_t kPluginAbiVersion = 6;  // 2: reads_texture; 3: glTF material terms;
+                                                  // 4: height-field AO uniforms; 5: layers;
+                                                  // 6: shadow maps drawn on demand
 
 // ---- parameters ----
 enum class ParamType : uint8_t { kFloat, kInt, kBool, kEnum };

@@ -89,9 +89,39 @@ void add_raster(RasterStats& sum, const RasterStats& s) {
   sum.triangles_clipped += s.triangles_clipped;
   sum.triangles_binned += s.triangles_binned;
   sum.quads += s.quads;
+  sum.tiles += s.tiles;
+  sum.tiles_drawn += s.tiles_drawn;
   sum.work += s.work;
   sum.setup_ms += s.setup_ms;
   sum.raster_ms += s.raster_ms;
+}
+
+// One face of a shadow pass: its uniforms, bindings, draws and target, which live until the main
+// pass has read the face (its tiles may be drawn on demand, during the main pass).
+struct ShadowFace {
+  FrameUniforms frame;
+  std::vector<DrawBinding> bindings;
+  std::vector<MaterialUniforms> mask_uniforms;
+  std::vector<DrawCall> draws;
+  Framebuffer fb;
+  Rasterizer* raster = nullptr;
+};
+
+// A shadow pass in flight: its faces, the tiles the main pass's lookups draw on demand
+// (ShadowTiles, shaders_cpp/shadow_lookup.h), and where its stats go.
+struct ShadowJob {
+  std::vector<std::unique_ptr<ShadowFace>> faces;
+  const float* depth[kMaxShadowFaces] = {};
+  ShadowTiles tiles;
+  size_t stats_index = 0;  // into RenderResult::passes
+  double setup_ms = 0.0;   // wall time of its faces' setup (and, drawn whole, their tiles)
+};
+
+// What a shadow map's tiles are cleared to: the far plane (reversed-Z 0).
+const ClearValues kFarPlane{glm::vec4(0.0f), 0.0f};
+
+void draw_shadow_tile(const void* owner, int face, int t) {
+  static_cast<const ShadowJob*>(owner)->faces[static_cast<size_t>(face)]->raster->draw_tile(t);
 }
 
 class CpuBackend final : public Backend {
@@ -124,16 +154,21 @@ class CpuBackend final : public Backend {
     result.geometry_prepared = prepared_.prepared;
     if (!rasterizer_) rasterizer_ = std::make_unique<Rasterizer>(pool_, RasterConfig{tile_size_});
 
-    // Shadow passes: one depth map per face, kept until the main pass has read them.
+    // Shadow passes: one depth map per face, kept until the main pass has read them. On demand
+    // (Plan::shadow_on_demand), a face is only set up here, and the main pass's lookups draw the
+    // tiles their taps reach (ShadowTiles); else every tile is drawn here.
     FrameUniforms frame = plan.frame;
-    std::vector<std::vector<Plane>> maps;
+    std::vector<std::unique_ptr<ShadowJob>> jobs;
     std::vector<ShadowMapView> views;
-    maps.reserve(plan.passes.size());
     views.reserve(plan.passes.size());
+    size_t rasters = 0;
     for (const PassPlan& pass : plan.passes) {
       if (pass.kind != PassPlan::Kind::kShadow) continue;
-      maps.push_back(shadow_pass(plan, prep, pass, result));
-      views.push_back(make_shadow_view(pass.shadow, maps.back(), plan.shadow));
+      jobs.push_back(shadow_pass(plan, prep, pass, result, rasters));
+      const ShadowJob& job = *jobs.back();
+      views.push_back(make_shadow_view(
+          pass.shadow, std::span<const float* const>(job.depth, job.faces.size()), plan.shadow));
+      if (plan.shadow_on_demand) views.back().tiles = &job.tiles;
       frame.lights[pass.light].shadow = &views.back();
     }
 
@@ -169,10 +204,25 @@ class CpuBackend final : public Backend {
     main.raster = rasterizer_->draw(result.framebuffer, draws, &clear);
     const auto t2 = Clock::now();
     main.ms = ms_between(t1, t2);
-    result.passes.push_back(main);
+    // Each shadow pass's counters, and its time: its setup, plus the thread time of the tiles
+    // drawn (during the main pass when on demand) over the thread count, taken out of the main
+    // pass's time.
     shadow_planes_.clear();  // keep this frame's maps only
-    for (std::vector<Plane>& faces : maps)
-      for (Plane& face : faces) shadow_planes_.push_back(std::move(face));
+    const double threads = static_cast<double>(pool_.size());
+    for (const std::unique_ptr<ShadowJob>& job : jobs) {
+      PassStats& stats = result.passes[job->stats_index];
+      double tiles_ms = 0.0;
+      for (const std::unique_ptr<ShadowFace>& face : job->faces) {
+        const RasterStats r = face->raster->finish();
+        tiles_ms += r.raster_ms;
+        add_raster(stats.raster, r);
+        shadow_planes_.push_back(std::move(face->fb.depth));
+      }
+      stats.raster.raster_ms = tiles_ms / threads;
+      stats.ms = job->setup_ms + (plan.shadow_on_demand ? tiles_ms / threads : 0.0);
+      if (plan.shadow_on_demand) main.ms -= tiles_ms / threads;
+    }
+    result.passes.push_back(main);
     keep_prepared(std::move(prep), prepared_);  // frees what the last frame kept and this one left
     result.frame_ms = ms_between(t0, Clock::now());
     return result;
@@ -181,60 +231,76 @@ class CpuBackend final : public Backend {
   void recycle(RenderResult&& done) override { spare_ = std::move(done.framebuffer); }
 
  private:
-  // Renders the depth maps of one shadow pass: every caster from each face of the light's view,
-  // depth only (no colour, no AOVs); relief casters with their shadow-pass variant.
-  std::vector<Plane> shadow_pass(const Plan& plan, const PreparedFrame& prep, const PassPlan& pass,
-                                 RenderResult& result) {
+  // Sets up the depth maps of one shadow pass: every caster from each face of the light's view,
+  // depth only (no colour, no AOVs); relief casters with their shadow-pass variant. Each face gets
+  // its own rasterizer (shadow_rasters_[rasters++]), which draws its tiles on demand; unless the
+  // plan asks for them on demand, every tile is drawn here.
+  std::unique_ptr<ShadowJob> shadow_pass(const Plan& plan, const PreparedFrame& prep,
+                                         const PassPlan& pass, RenderResult& result,
+                                         size_t& rasters) {
     const auto t0 = Clock::now();
     const ShadowPassSetup& s = pass.shadow;
-    PassStats stats = shadow_pass_stats(pass);
-    std::vector<Plane> faces;
-    std::vector<DrawBinding> bindings(plan.materials.size());
-    std::vector<MaterialUniforms> mask_uniforms(plan.materials.size());
+    auto job = std::make_unique<ShadowJob>();
     for (int f = 0; f < s.faces; ++f) {
-      const FrameUniforms frame = shadow_face_frame(s, f);
+      job->faces.push_back(std::make_unique<ShadowFace>());
+      ShadowFace& face = *job->faces.back();
+      face.frame = shadow_face_frame(s, f);
+      face.bindings.resize(plan.materials.size());
+      face.mask_uniforms.resize(plan.materials.size());
       for (size_t m = 0; m < plan.materials.size(); ++m) {
         const BoundMaterial& b = plan.materials[m];
-        bindings[m].fn = b.shadow_effects ? b.plugin->select(b.shadow_effects) : nullptr;
-        bindings[m].ctx = ShadeContext{&frame, &b.uniforms, prep.state(m), b.shadow_effects};
-        if (!bindings[m].fn && b.uniforms.alpha_mode == AlphaMode::kMask) {
-          mask_uniforms[m] = mask_caster_uniforms(b);
-          bindings[m].fn = &shade_packet<MaskCasterKernel>;
-          bindings[m].ctx = ShadeContext{&frame, &mask_uniforms[m], nullptr, 0};
+        DrawBinding& binding = face.bindings[m];
+        binding.fn = b.shadow_effects ? b.plugin->select(b.shadow_effects) : nullptr;
+        binding.ctx = ShadeContext{&face.frame, &b.uniforms, prep.state(m), b.shadow_effects};
+        if (!binding.fn && b.uniforms.alpha_mode == AlphaMode::kMask) {
+          face.mask_uniforms[m] = mask_caster_uniforms(b);
+          binding.fn = &shade_packet<MaskCasterKernel>;
+          binding.ctx = ShadeContext{&face.frame, &face.mask_uniforms[m], nullptr, 0};
         }
       }
       // The casters only, seen from this face.
-      std::vector<DrawCall> draws;
-      draws.reserve(pass.instances.size());
+      face.draws.reserve(pass.instances.size());
       for (int i : pass.instances) {
         const PreparedInstance& p = prep.instances[i];
         const BoundMaterial& b = plan.materials[p.material];
         if (!b.shadow_caster) continue;
-        DrawCall dc = make_draw(p, b, frame.view_proj);
+        DrawCall dc = make_draw(p, b, face.frame.view_proj);
         dc.color_write = false;
-        if (bindings[p.material].fn) {
+        if (face.bindings[p.material].fn) {
           dc.depth_test = b.shadow_effects
                               ? depth_test_for(b.plugin->depth_output(b.shadow_effects))
                               : DepthTest::kEarly;  // MaskCasterKernel: polygon depth
           dc.shader = &call_plugin;
-          dc.user = &bindings[p.material];
+          dc.user = &face.bindings[p.material];
         } else {
           dc.depth_test = DepthTest::kEarly;
           dc.shader = &depth_only;
         }
-        draws.push_back(dc);
+        face.draws.push_back(dc);
       }
       // Depth only: no colour image; the depth plane comes from the previous frames' maps.
-      Framebuffer fb;
-      fb.width = fb.height = s.size;
-      fb.depth = take_shadow_plane(s.size);
-      const ClearValues far_plane{glm::vec4(0.0f), 0.0f};
-      add_raster(stats.raster, rasterizer_->draw(fb, draws, &far_plane));
-      faces.push_back(std::move(fb.depth));
+      face.fb.width = face.fb.height = s.size;
+      face.fb.depth = take_shadow_plane(s.size);
+      job->depth[f] = face.fb.depth.values.data();
+      if (rasters == shadow_rasters_.size())
+        shadow_rasters_.push_back(
+            std::make_unique<Rasterizer>(pool_, RasterConfig{kShadowTileSize}));
+      face.raster = shadow_rasters_[rasters++].get();
+      face.raster->prepare(face.fb, face.draws, &kFarPlane);
+      if (!plan.shadow_on_demand) {
+        Rasterizer& r = *face.raster;
+        pool_.run(r.tiles_x() * r.tiles_y(), [&r](int tile, int) { r.draw_tile(tile); });
+      }
+      job->tiles.drawn[f] = face.raster->drawn();
     }
-    stats.ms = ms_between(t0, Clock::now());
-    result.passes.push_back(stats);
-    return faces;
+    job->tiles.shift = kShadowTileShift;
+    job->tiles.per_row = job->faces.front()->raster->tiles_x();
+    job->tiles.draw = &draw_shadow_tile;
+    job->tiles.owner = job.get();
+    job->setup_ms = ms_between(t0, Clock::now());
+    job->stats_index = result.passes.size();
+    result.passes.push_back(shadow_pass_stats(pass));
+    return job;
   }
 
   // A shadow-map plane of size x size: one kept from an earlier frame when there is one.
@@ -248,9 +314,14 @@ class CpuBackend final : public Backend {
     return Plane(size, size);
   }
 
+  // Tiles of the shadow maps, in texels: the unit the main pass's lookups draw on demand.
+  static constexpr int kShadowTileShift = 5;
+  static constexpr int kShadowTileSize = 1 << kShadowTileShift;
+
   ThreadPool pool_;
   int tile_size_ = 64;
   std::unique_ptr<Rasterizer> rasterizer_;
+  std::vector<std::unique_ptr<Rasterizer>> shadow_rasters_;  // one per shadow-map face in a frame
   Framebuffer spare_;                 // from recycle(): the next frame's main target
   std::vector<Plane> shadow_planes_;  // the last frame's shadow maps, reused by the next
   PreparedCache prepared_;            // the last frame's prepared instances

@@ -567,6 +567,7 @@ Result<Plan> make_plan(const Scene& scene, const RenderOptions& opt) {
       return Status::error("scene '" + scene.name + "': an instance has no valid mesh or material");
   RELIEF_RETURN_IF_ERROR(check_layered_triangles(scene, plan));
   plan.shadow = opt.shadow;
+  plan.shadow_on_demand = opt.shadow_on_demand;
   RELIEF_RETURN_IF_ERROR(plan_shadow_passes(scene, opt, plan));
   plan_shadow_variants(scene, plan);
   plan.draw_order = blend_draw_order(scene, plan.frame.view);

@@ -41,6 +41,10 @@ struct RenderOptions {
   // How each shadow map's resolution is chosen (render/shadow_map.h ShadowSize): kLight, the
   // light's shadow_resolution; kView, at most that and no more than a texel per pixel of the view.
   ShadowSize shadow_size = ShadowSize::kLight;
+  // CPU backend: each shadow map's tiles are drawn when the main pass's lookups first reach them
+  // (docs/effects.md, "Shadow maps drawn on demand"); false draws every tile before the main pass.
+  // The image is the same either way.
+  bool shadow_on_demand = true;
   // Image-based light (docs/environment.md): the baked maps of an environment (`--env`; null:
   // none), named for --explain, turned and scaled by env_view. Without one, a scene that has no
   // lights is lit by the built-in studio environment when `studio_environment` is set (a glTF
@@ -89,6 +93,7 @@ struct Plan {
   std::shared_ptr<const EnvironmentMaps> environment;
   std::string environment_reason;
   ShadowSettings shadow;             // lookups of every shadow pass
+  bool shadow_on_demand = true;      // RenderOptions::shadow_on_demand
   std::vector<std::string> skipped;  // passes not made, and why (for --explain)
   // The main pass's instances in draw order: the OPAQUE and MASK ones in submission order, then
   // the BLEND ones back to front by the view depth of their bounds' centre (ties: submission

@@ -261,7 +261,7 @@ FrameUniforms shadow_face_frame(const ShadowPassSetup& s, int face) {
   return f;
 }
 
-ShadowMapView make_shadow_view(const ShadowPassSetup& s, const std::vector<Plane>& faces,
+ShadowMapView make_shadow_view(const ShadowPassSetup& s, std::span<const float* const> faces,
                                const ShadowSettings& settings) {
   ShadowMapView v;
   v.size = s.size;
@@ -271,7 +271,7 @@ ShadowMapView make_shadow_view(const ShadowPassSetup& s, const std::vector<Plane
   for (int f = 0; f < s.faces; ++f) {
     v.view[f] = s.view[f];
     v.proj[f] = s.proj[f];
-    v.depth[f] = faces[f].values.data();
+    v.depth[f] = faces[static_cast<size_t>(f)];
   }
   v.znear = s.znear;
   v.zfar = s.zfar;

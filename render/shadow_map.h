@@ -12,6 +12,7 @@
 #pragma once
 
 #include <limits>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -96,9 +97,9 @@ int view_shadow_size(const ShadowPassSetup& setup,
 // The uniforms of one face's depth pass: the light as the eye, no lights, no AOVs.
 FrameUniforms shadow_face_frame(const ShadowPassSetup& setup, int face);
 
-// What receivers read: `faces` holds setup.faces depth planes of setup.size squared, which must
-// outlive the view.
-ShadowMapView make_shadow_view(const ShadowPassSetup& setup, const std::vector<Plane>& faces,
+// What receivers read: `faces` holds setup.faces depth planes of setup.size squared (row by row),
+// which must outlive the view.
+ShadowMapView make_shadow_view(const ShadowPassSetup& setup, std::span<const float* const> faces,
                                const ShadowSettings& settings);
 
 // One line: projection, resolution, planes (for --explain).

@@ -14,7 +14,9 @@
 #ifndef RELIEF_SHADERS_CPP_SHADOW_MAP_H_ONCE
 #define RELIEF_SHADERS_CPP_SHADOW_MAP_H_ONCE
 #include <algorithm>
+#include <atomic>
 #include <cmath>
+#include <cstdint>
 #include <glm/mat3x3.hpp>
 #include <glm/mat4x4.hpp>
 #include <glm/vec3.hpp>
@@ -37,6 +39,32 @@ inline constexpr float kMaxShadowSlope = 10.0f;
 inline constexpr int kMaxShadowFaces = 6;
 inline constexpr int kMaxPcfRadius = 4;
 
+// A shadow map drawn on demand (the CPU backend, docs/effects.md "Shadow maps drawn on demand"):
+// each face is cut into square tiles, and a tile is drawn the first time a lookup's taps reach
+// it. A texel's depth depends only on the casters' fragments at that texel, so every texel read
+// holds what a whole map would hold there, and tiles no lookup reaches are never drawn.
+struct ShadowTiles {
+  int shift = 0;    // a tile is 2^shift texels per side
+  int per_row = 0;  // tiles per row and per column of a face
+  // Per face, per tile (row by row): 1 once the tile is drawn (release by the drawer).
+  const std::atomic<uint8_t>* drawn[kMaxShadowFaces] = {};
+  // Draws tile `t` of `face` unless it is drawn, and returns once it is: from any thread, at
+  // most once a tile (a second caller waits for the first).
+  void (*draw)(const void* owner, int face, int t) = nullptr;
+  const void* owner = nullptr;
+
+  // Makes the texels [x0, x1] x [y0, y1] of `face` (inside the map) drawn.
+  void need(int face, int x0, int y0, int x1, int y1) const {
+    const std::atomic<uint8_t>* d = drawn[face];
+    const int tx0 = x0 >> shift, tx1 = x1 >> shift, ty1 = y1 >> shift;
+    for (int ty = y0 >> shift; ty <= ty1; ++ty)
+      for (int tx = tx0; tx <= tx1; ++tx) {
+        const int t = ty * per_row + tx;
+        if (d[t].load(std::memory_order_acquire) != 1) draw(owner, face, t);
+      }
+  }
+};
+
 // One light's depth map as the receivers see it (LightUniform::shadow).
 struct ShadowMapView {
   int size = 0;                     // texels per side
@@ -50,6 +78,8 @@ struct ShadowMapView {
   // World size of one texel: orthographic, everywhere; perspective, at distance 1 from the light.
   float texel = 0.0f;
   ShadowSettings settings;
+  // Null when every texel is drawn; else lookups make the tiles their taps reach drawn first.
+  const ShadowTiles* tiles = nullptr;
 };
 
 namespace detail {
@@ -93,6 +123,11 @@ inline float shadow_lookup(const ShadowMapView& m, glm::vec3 p, glm::vec3 n, glm
   const float x0f = std::floor(bx), y0f = std::floor(by);
   const float fx = bx - x0f, fy = by - y0f;
   const int x0 = static_cast<int>(x0f), y0 = static_cast<int>(y0f);
+  if (m.tiles) {
+    const int last = m.size - 1;
+    m.tiles->need(f, std::clamp(x0 - r, 0, last), std::clamp(y0 - r, 0, last),
+                  std::clamp(x0 + r + 1, 0, last), std::clamp(y0 + r + 1, 0, last));
+  }
   const float* depth = m.depth[f];
   float lit = 0.0f, total = 0.0f;
   for (int j = -r; j <= r + 1; ++j) {

@@ -3,8 +3,13 @@
 // default bias, and the shadowed room is bit-identical for any thread count.
 #include <gtest/gtest.h>
 
+#include <atomic>
+#include <bit>
 #include <cmath>
 #include <functional>
+#include <memory>
+#include <random>
+#include <set>
 
 #include <glm/geometric.hpp>
 #include <glm/matrix.hpp>
@@ -12,6 +17,7 @@
 
 #include "builtin/builtin_room.h"
 #include "render/render.h"
+#include "render/shadow_map.h"
 #include "scene/mesh_prep.h"
 
 namespace relief {
@@ -70,12 +76,13 @@ Camera camera(glm::vec3 from, glm::vec3 to) {
 }
 
 RenderResult render(const Scene& scene, int threads = 2, bool shadows = true, bool scalar = false,
-                    int tile = 64) {
+                    int tile = 64, bool on_demand = true) {
   RenderOptions opt;
   opt.width = kW;
   opt.height = kH;
   opt.shadows = shadows;
   opt.scalar_lanes = scalar;
+  opt.shadow_on_demand = on_demand;
   Result<Plan> plan = make_plan(scene, opt);
   EXPECT_TRUE(plan.ok()) << plan.status().message();
   Result<RenderResult> r =
@@ -266,11 +273,11 @@ void check_blocker_shadow(const Light& light) {
   EXPECT_LE(outside_changed, outside / 100) << outside_changed << " of " << outside;
 }
 
-TEST(Shadow, FlatBlockerShadowsReliefFloorDirectional) {
-  check_blocker_shadow(directional({-0.5f, -1.0f, 0.3f}));
+Light blocker_sun() {
+  return directional({-0.5f, -1.0f, 0.3f});
 }
 
-TEST(Shadow, FlatBlockerShadowsReliefFloorSpot) {
+Light blocker_spot() {
   Light l = directional({0, -1, 0});
   l.type = LightType::kSpot;
   l.position = glm::vec3(2.5f, 3.5f, 0.3f);
@@ -278,17 +285,29 @@ TEST(Shadow, FlatBlockerShadowsReliefFloorSpot) {
   l.inner_cone_deg = 50.0f;
   l.outer_cone_deg = 60.0f;
   l.intensity = 25.0f;
-  check_blocker_shadow(l);
+  return l;
 }
 
-TEST(Shadow, FlatBlockerShadowsReliefFloorPointCube) {
-  // The light sits beside the blocker's height, so its shadow crosses cube faces.
+// The light sits beside the blocker's height, so its shadow crosses cube faces.
+Light blocker_point() {
   Light l = directional({0, -1, 0});
   l.type = LightType::kPoint;
   l.position = glm::vec3(2.2f, 1.6f, 1.0f);
   l.intensity = 8.0f;
   l.shadow_resolution = 512;
-  check_blocker_shadow(l);
+  return l;
+}
+
+TEST(Shadow, FlatBlockerShadowsReliefFloorDirectional) {
+  check_blocker_shadow(blocker_sun());
+}
+
+TEST(Shadow, FlatBlockerShadowsReliefFloorSpot) {
+  check_blocker_shadow(blocker_spot());
+}
+
+TEST(Shadow, FlatBlockerShadowsReliefFloorPointCube) {
+  check_blocker_shadow(blocker_point());
 }
 
 // ---- no acne ---------------------------------------------------------------------------------
@@ -350,6 +369,138 @@ TEST(Shadow, RoomScalarAndSimdLanesAgreeBitForBit) {
   const Scene room = small_room();
   EXPECT_TRUE(
       identical(render(room, 2, true, false).framebuffer, render(room, 2, true, true).framebuffer));
+}
+
+// ---- shadow maps drawn on demand ---------------------------------------------------------------
+
+// Shadow fragments shaded in the frame's shadow pass (one shadow-casting light).
+uint64_t shadow_fragments(const RenderResult& r) {
+  EXPECT_EQ(r.passes.size(), 2u);
+  return r.passes.front().raster.work.fragments;
+}
+
+// Drawing the maps' tiles when the main pass's lookups first reach them gives the image (colour
+// and depth) of the maps drawn whole, for each kind of light, at any thread count and tile size;
+// and the view here needs less than the whole map, so fewer shadow fragments are shaded.
+void expect_on_demand_matches_whole(const Scene& s) {
+  const RenderResult whole = render(s, 2, true, false, 64, false);
+  expect_finite(whole.framebuffer);
+  ASSERT_EQ(whole.passes.size(), 2u);
+  EXPECT_GT(whole.passes[0].raster.tiles, 0u);
+  EXPECT_EQ(whole.passes[0].raster.tiles_drawn, whole.passes[0].raster.tiles);
+  for (auto [threads, tile] : {std::pair{1, 64}, std::pair{2, 64}, std::pair{7, 16}}) {
+    const RenderResult r = render(s, threads, true, false, tile, true);
+    EXPECT_TRUE(identical(whole.framebuffer, r.framebuffer))
+        << threads << " threads, tile " << tile;
+    EXPECT_LT(shadow_fragments(r), shadow_fragments(whole));
+    EXPECT_GT(shadow_fragments(r), 0u);
+    EXPECT_EQ(r.passes[0].raster.tiles, whole.passes[0].raster.tiles);
+    EXPECT_LT(r.passes[0].raster.tiles_drawn, r.passes[0].raster.tiles);
+  }
+}
+
+TEST(Shadow, MapsDrawnOnDemandGiveTheWholeMapsImageDirectional) {
+  expect_on_demand_matches_whole(blocker_scene(blocker_sun(), true));
+}
+
+TEST(Shadow, MapsDrawnOnDemandGiveTheWholeMapsImageSpot) {
+  expect_on_demand_matches_whole(blocker_scene(blocker_spot(), true));
+}
+
+TEST(Shadow, MapsDrawnOnDemandGiveTheWholeMapsImagePointCube) {
+  expect_on_demand_matches_whole(blocker_scene(blocker_point(), true));
+}
+
+TEST(Shadow, MapsDrawnOnDemandGiveTheWholeMapsImageRoom) {
+  expect_on_demand_matches_whole(small_room());
+}
+
+// One face of a shadow map whose tiles "draw" by filling in the caster's depth: a lookup that
+// read a texel of a tile it had not asked for would read the far plane there.
+struct FakeTiledMap {
+  int size, tile;
+  float caster_depth;  // reversed-Z depth of the caster over every texel
+  std::vector<float> depth;
+  std::unique_ptr<std::atomic<uint8_t>[]> drawn;
+  std::set<std::pair<int, int>> asked;  // tiles drawn since reset(), (tx, ty)
+  ShadowTiles tiles;
+
+  FakeTiledMap(int size_, int tile_, float caster)
+      : size(size_), tile(tile_), caster_depth(caster), depth(size_t(size_) * size_) {
+    const int per_row = (size + tile - 1) / tile;
+    drawn = std::make_unique<std::atomic<uint8_t>[]>(size_t(per_row) * per_row);
+    tiles.shift = std::countr_zero(static_cast<unsigned>(tile));
+    EXPECT_EQ(1 << tiles.shift, tile);
+    tiles.per_row = per_row;
+    tiles.drawn[0] = drawn.get();
+    tiles.owner = this;
+    tiles.draw = [](const void* owner, int face, int t) {
+      auto* m = const_cast<FakeTiledMap*>(static_cast<const FakeTiledMap*>(owner));
+      EXPECT_EQ(face, 0);
+      const int tx = t % m->tiles.per_row, ty = t / m->tiles.per_row;
+      EXPECT_TRUE(m->asked.insert({tx, ty}).second) << "tile drawn twice";
+      for (int y = ty * m->tile; y < std::min((ty + 1) * m->tile, m->size); ++y)
+        for (int x = tx * m->tile; x < std::min((tx + 1) * m->tile, m->size); ++x)
+          m->depth[size_t(y) * m->size + x] = m->caster_depth;
+      m->drawn[t].store(1, std::memory_order_release);
+    };
+    reset();
+  }
+  void reset() {
+    std::fill(depth.begin(), depth.end(), 0.0f);  // the far plane: lights every receiver
+    for (int t = 0; t < tiles.per_row * tiles.per_row; ++t) drawn[t].store(0);
+    asked.clear();
+  }
+};
+
+// A lookup asks, before it reads, for exactly the tiles its taps reach, and for each once: a
+// sun straight down over a floor, a caster over all of it, receivers all over the map and on
+// its borders (where the taps are clamped), each PCF radius.
+TEST(Shadow, LookupAsksForExactlyTheTilesItsTapsReach) {
+  Light sun = directional({0.0f, -1.0f, 0.0f});
+  sun.shadow_resolution = 64;
+  Bounds floor, casters;
+  floor.add({-1.0f, 0.0f, -1.0f});
+  floor.add({1.0f, 0.0f, 1.0f});
+  casters.add({-1.0f, 0.5f, -1.0f});
+  casters.add({1.0f, 0.5f, 1.0f});
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<float> coord(-1.1f, 1.1f);
+  for (int r = 0; r <= kMaxPcfRadius; ++r) {
+    ShadowSettings settings;
+    settings.pcf_radius = r;
+    const ShadowPassSetup setup = fit_shadow_pass(sun, floor, casters, settings);
+    ASSERT_TRUE(setup.orthographic);
+    // the caster at 0.5 above the floor, in the map's reversed-Z depth
+    const glm::vec4 c = setup.proj[0] * setup.view[0] * glm::vec4(0.0f, 0.5f, 0.0f, 1.0f);
+    FakeTiledMap map(setup.size, 8, c.z / c.w);
+    const float* faces[1] = {map.depth.data()};
+    ShadowMapView view = make_shadow_view(setup, faces, settings);
+    view.tiles = &map.tiles;
+    for (int i = 0; i < 400; ++i) {
+      map.reset();
+      const glm::vec3 p(coord(rng), 0.0f, coord(rng));
+      const glm::vec4 q = setup.proj[0] * setup.view[0] * glm::vec4(p, 1.0f);
+      const float px = (q.x / q.w * 0.5f + 0.5f) * setup.size;
+      const float py = (0.5f - q.y / q.w * 0.5f) * setup.size;
+      float fetches = 0.0f;
+      const float lit = relief::detail::shadow_lookup(view, p, {0, 1, 0}, {0, 1, 0}, fetches);
+      if (!(px >= 0.0f && px <= setup.size && py >= 0.0f && py <= setup.size)) {
+        EXPECT_EQ(lit, 1.0f);  // outside the map: lit, and nothing asked for
+        EXPECT_TRUE(map.asked.empty());
+        continue;
+      }
+      EXPECT_EQ(lit, 0.0f) << "a tap read a tile it did not ask for, at " << px << ", " << py;
+      std::set<std::pair<int, int>> expected;
+      const int x0 = static_cast<int>(std::floor(px - 0.5f));
+      const int y0 = static_cast<int>(std::floor(py - 0.5f));
+      for (int j = -r; j <= r + 1; ++j)
+        for (int k = -r; k <= r + 1; ++k)
+          expected.insert({std::clamp(x0 + k, 0, setup.size - 1) / map.tile,
+                           std::clamp(y0 + j, 0, setup.size - 1) / map.tile});
+      EXPECT_EQ(map.asked, expected) << "radius " << r << " at " << px << ", " << py;
+    }
+  }
 }
 
 }  // namespace
