@@ -435,6 +435,34 @@ TEST(FarmCli, BakeRefusesDepthScaleWithCone) {
       0);
 }
 
+// Shadow maps drawn on demand (the default) and whole (--whole-shadow-maps) give the same PNG, and
+// --stats says how many of the map's tiles each drew.
+TEST(FarmCli, WholeShadowMapsGiveTheSamePngAndStatsCountTheTilesDrawn) {
+  const fs::path dir = fresh_test_dir("farm_whole_shadow_maps");
+  std::string png[2];
+  nlohmann::json stats[2];
+  for (int whole = 0; whole < 2; ++whole) {
+    const fs::path image = dir / (whole ? "whole.png" : "demand.png");
+    const fs::path json = dir / (whole ? "whole.json" : "demand.json");
+    const CliRun r = run("render teatime --size 200x150 --threads 2 -q -o " + q(image) +
+                         " --stats " + q(json) + (whole ? " --whole-shadow-maps" : ""));
+    ASSERT_EQ(r.code, 0) << r.out;
+    png[whole] = slurp(image);
+    stats[whole] = nlohmann::json::parse(slurp(json));
+  }
+  EXPECT_FALSE(png[0].empty());
+  EXPECT_TRUE(png[0] == png[1]) << "the PNGs differ";
+  const nlohmann::json& demand = stats[0]["passes"][0];
+  const nlohmann::json& whole = stats[1]["passes"][0];
+  ASSERT_EQ(demand["kind"], "shadow");
+  ASSERT_EQ(whole["kind"], "shadow");
+  EXPECT_EQ(whole["tiles_drawn"], whole["tiles"]);
+  EXPECT_EQ(demand["tiles"], whole["tiles"]);
+  EXPECT_GT(demand["tiles_drawn"].get<uint64_t>(), 0u);
+  EXPECT_LT(demand["tiles_drawn"].get<uint64_t>(), demand["tiles"].get<uint64_t>());
+  EXPECT_LT(demand["fragments_shaded"].get<uint64_t>(), whole["fragments_shaded"].get<uint64_t>());
+}
+
 TEST(FarmCli, BenchAnglesErrorStatesTheRangeItChecks) {
   const CliRun r = run("bench --angles 0,95");
   EXPECT_EQ(r.code, 2) << r.out;
