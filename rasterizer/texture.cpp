@@ -131,11 +131,16 @@ uint8_t encode_unorm8(float v) {
   if (v >= 1.0f) return 255;
   return static_cast<uint8_t>(std::lround(static_cast<double>(v) * 255.0));
 }
+}  // namespace
+
 uint8_t encode_srgb8(float v) {
   if (!(v > 0.0f)) return 0;
   if (v >= 1.0f) return 255;
   return static_cast<uint8_t>(std::lround(linear_to_srgb_d(v) * 255.0));
 }
+
+namespace {
+
 uint16_t encode_unorm16(float v) {
   if (!(v > 0.0f)) return 0;
   if (v >= 1.0f) return 65535;

@@ -120,6 +120,10 @@ class Texture {
 
 using TexturePtr = std::shared_ptr<const Texture>;
 
+// The 8-bit sRGB byte of linear value v: lround(255 * srgb(v)), srgb the IEC 61966-2-1 curve in
+// double; 0 for v <= 0 and NaN, 255 for v >= 1 (what an sRGB texture stores, and .png output).
+uint8_t encode_srgb8(float v);
+
 // Decode tables of 8-bit channels: unorm (i / 255) and sRGB (to linear), 256 floats each.
 const float* unorm8_table();
 const float* srgb8_table();

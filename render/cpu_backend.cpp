@@ -111,7 +111,6 @@ struct ShadowFace {
 // (ShadowTiles, shaders_cpp/shadow_lookup.h), and where its stats go.
 struct ShadowJob {
   std::vector<std::unique_ptr<ShadowFace>> faces;
-  const float* depth[kMaxShadowFaces] = {};
   ShadowTiles tiles;
   size_t stats_index = 0;  // into RenderResult::passes
   double setup_ms = 0.0;   // wall time of its faces' setup (and, drawn whole, their tiles)
@@ -166,8 +165,10 @@ class CpuBackend final : public Backend {
       if (pass.kind != PassPlan::Kind::kShadow) continue;
       jobs.push_back(shadow_pass(plan, prep, pass, result, rasters));
       const ShadowJob& job = *jobs.back();
+      const float* depth[kMaxShadowFaces] = {};
+      for (size_t f = 0; f < job.faces.size(); ++f) depth[f] = job.faces[f]->fb.depth.values.data();
       views.push_back(make_shadow_view(
-          pass.shadow, std::span<const float* const>(job.depth, job.faces.size()), plan.shadow));
+          pass.shadow, std::span<const float* const>(depth, job.faces.size()), plan.shadow));
       if (plan.shadow_on_demand) views.back().tiles = &job.tiles;
       frame.lights[pass.light].shadow = &views.back();
     }
@@ -281,7 +282,6 @@ class CpuBackend final : public Backend {
       // Depth only: no colour image; the depth plane comes from the previous frames' maps.
       face.fb.width = face.fb.height = s.size;
       face.fb.depth = take_shadow_plane(s.size);
-      job->depth[f] = face.fb.depth.values.data();
       if (rasters == shadow_rasters_.size())
         shadow_rasters_.push_back(
             std::make_unique<Rasterizer>(pool_, RasterConfig{kShadowTileSize}));

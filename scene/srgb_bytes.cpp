@@ -1,8 +1,8 @@
 #include "scene/srgb_bytes.h"
 
 #include <bit>
-#include <cmath>
-#include <cstring>
+
+#include "rasterizer/texture.h"
 
 namespace relief {
 namespace {
@@ -19,12 +19,12 @@ struct SrgbTables {
       uint32_t lo = 0, hi = kOneBits;  // byte(lo) < k <= byte(hi)
       while (hi - lo > 1) {
         const uint32_t mid = lo + (hi - lo) / 2;
-        (srgb_byte_exact(std::bit_cast<float>(mid)) >= k ? hi : lo) = mid;
+        (encode_srgb8(std::bit_cast<float>(mid)) >= k ? hi : lo) = mid;
       }
       threshold[k] = std::bit_cast<float>(hi);
     }
     for (uint32_t i = 0; i < kRuns; ++i)
-      run_byte[i] = srgb_byte_exact(std::bit_cast<float>(i << kRunShift));
+      run_byte[i] = encode_srgb8(std::bit_cast<float>(i << kRunShift));
   }
 };
 
@@ -34,13 +34,6 @@ const SrgbTables& tables() {
 }
 
 }  // namespace
-
-uint8_t srgb_byte_exact(float c) {
-  const double v = c > 0.0f ? (c < 1.0f ? c : 1.0f) : 0.0f;  // NaN: 0
-  const double s = v <= 0.0031308 ? v * 12.92 : 1.055 * std::pow(v, 1.0 / 2.4) - 0.055;
-  const double b = (s > 0.0 ? (s < 1.0 ? s : 1.0) : 0.0) * 255.0;
-  return static_cast<uint8_t>(std::lround(b));
-}
 
 uint8_t srgb_byte(float c) {
   if (!(c > 0.0f)) return 0;  // zero, negative, NaN

@@ -1,22 +1,18 @@
-// The 8-bit sRGB encoding of linear colour that .png output writes (scene/image_io.cpp): the
-// byte of a linear value c is lround(255 * srgb(clamp(c, 0, 1))), with srgb the IEC 61966-2-1
-// curve in double (srgb_byte_exact, the definition). srgb_byte gives the same byte for every
-// float through tables instead of a pow a channel.
+// The 8-bit sRGB encoding of linear colour that .png output writes (scene/image_io.cpp):
+// encode_srgb8 (rasterizer/texture.h, the definition: lround(255 * srgb(clamp(c, 0, 1))), srgb
+// the IEC 61966-2-1 curve in double) through tables instead of a pow a channel.
 #pragma once
 
 #include <cstdint>
 
 namespace relief {
 
-// The definition: the byte of linear value c (NaN reads as 0).
-uint8_t srgb_byte_exact(float c);
-
-// srgb_byte_exact(c) for every float c, by table: for each byte k from 1 to 255 the smallest
-// float whose byte is k (found by bisection over the float bit patterns with srgb_byte_exact),
-// and the byte at the first float of each run of 2^16 float bit patterns in [0, 1]. A value's
-// byte is its run's byte, raised past every threshold it reaches (a run spans less than one
-// byte). Equal to the definition for all 2^30 floats in [0, 1]
-// (tests/scene/srgb_bytes_test.cpp checks every one), and both clamp outside it.
+// encode_srgb8(c) for every float c, by table: for each byte k from 1 to 255 the smallest float
+// whose byte is k (found by bisection over the float bit patterns with encode_srgb8), and the
+// byte at the first float of each run of 2^16 float bit patterns in [0, 1]. A value's byte is
+// its run's byte, raised past every threshold it reaches (a run spans less than one byte). Equal
+// to the definition for all 2^30 floats in [0, 1] (tests/scene/srgb_bytes_test.cpp checks every
+// one), and both clamp outside it.
 uint8_t srgb_byte(float c);
 
 }  // namespace relief
