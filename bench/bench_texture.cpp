@@ -16,7 +16,7 @@ namespace {
 constexpr int kSize = 512;
 constexpr int kBatch = 1024;  // samples per benchmark iteration
 
-Texture bench_texture(TexFormat f) {
+Texture bench_texture(TexFormat f, ColorSpace cs = ColorSpace::kLinear) {
   const int ch = format_channels(f);
   std::vector<float> v(static_cast<size_t>(kSize) * kSize * ch);
   for (int y = 0; y < kSize; ++y)
@@ -24,7 +24,7 @@ Texture bench_texture(TexFormat f) {
       for (int c = 0; c < ch; ++c)
         v[(static_cast<size_t>(y) * kSize + x) * ch + c] =
             0.5f + 0.4f * std::sin(0.05f * x + 0.3f * c) * std::cos(0.07f * y);
-  Texture t = Texture::from_floats(f, kSize, kSize, v.data());
+  Texture t = Texture::from_floats(f, kSize, kSize, v.data(), cs);
   t.generate_mips();
   return t;
 }
@@ -125,6 +125,17 @@ void BM_Texture_GenerateMips_R8(benchmark::State& state) {
   state.SetItemsProcessed(state.iterations() * kSize * kSize);  // level-0 texels
 }
 
+// A colour texture as glTF base colours are: RGBA8, sRGB (each level decoded, averaged in linear
+// light and encoded again).
+void BM_Texture_GenerateMips_RGBA8Srgb(benchmark::State& state) {
+  Texture t = bench_texture(TexFormat::kRGBA8, ColorSpace::kSRGB);
+  for (auto _ : state) {
+    t.generate_mips(MipReduce::kAverage);
+    benchmark::DoNotOptimize(t.level(1).data.data());
+  }
+  state.SetItemsProcessed(state.iterations() * kSize * kSize);  // level-0 texels
+}
+
 BENCHMARK(BM_Texture_SampleRLod_Bilinear);
 BENCHMARK(BM_Texture_SampleRLod_BilinearR16);
 BENCHMARK(BM_Texture_SampleRLod_BilinearR32F);
@@ -135,6 +146,7 @@ BENCHMARK(BM_Texture_SampleLod_TrilinearRGBA8);
 BENCHMARK(BM_Texture_SampleGrad_Anisotropic);
 BENCHMARK(BM_Texture_FetchR_R8);
 BENCHMARK(BM_Texture_GenerateMips_R8)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_Texture_GenerateMips_RGBA8Srgb)->Unit(benchmark::kMillisecond);
 
 }  // namespace
 }  // namespace relief

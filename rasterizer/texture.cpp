@@ -10,6 +10,7 @@
 #include <mutex>
 
 #include "base/check.h"
+#include "rasterizer/srgb_bytes.h"
 
 namespace relief {
 
@@ -273,6 +274,70 @@ std::vector<float> decode_level(TexFormat format, ColorSpace cs, const MipLevel&
   return out;
 }
 
+// One mip level from the level above (sw x sh, ch channels) into dst (dw x dh): output texel i
+// covers source [i*sw/dw, (i+1)*sw/dw), each source texel weighted by its overlap, in double.
+void reduce_level(const float* src, int sw, int sh, int dw, int dh, int ch, MipReduce reduce,
+                  float* dst) {
+  // Output texel i covers source [i*sw/dw, (i+1)*sw/dw): a 2-texel block for even sizes, a
+  // 3-texel block (middle texel shared, half weight) for odd ones, so min/max stay conservative.
+  for (int j = 0; j < dh; ++j) {
+    const double y_lo = static_cast<double>(j) * sh / dh;
+    const double y_hi = static_cast<double>(j + 1) * sh / dh;
+    const int y0 = static_cast<int>(std::floor(y_lo));
+    const int y1 = std::min(sh, static_cast<int>(std::ceil(y_hi)));
+    for (int i = 0; i < dw; ++i) {
+      const double x_lo = static_cast<double>(i) * sw / dw;
+      const double x_hi = static_cast<double>(i + 1) * sw / dw;
+      const int x0 = static_cast<int>(std::floor(x_lo));
+      const int x1 = std::min(sw, static_cast<int>(std::ceil(x_hi)));
+      float* out = dst + (static_cast<size_t>(j) * dw + i) * ch;
+      for (int c = 0; c < ch; ++c) {
+        double acc = reduce == MipReduce::kAverage ? 0.0
+                     : reduce == MipReduce::kMin   ? HUGE_VAL
+                                                   : -HUGE_VAL;
+        double wsum = 0.0;
+        for (int y = y0; y < y1; ++y) {
+          const double wyv = std::min<double>(y + 1, y_hi) - std::max<double>(y, y_lo);
+          for (int x = x0; x < x1; ++x) {
+            const double v = src[(static_cast<size_t>(y) * sw + x) * ch + c];
+            if (reduce == MipReduce::kAverage) {
+              const double w = wyv * (std::min<double>(x + 1, x_hi) - std::max<double>(x, x_lo));
+              acc += w * v;
+              wsum += w;
+            } else if (reduce == MipReduce::kMin) {
+              acc = std::min(acc, v);
+            } else {
+              acc = std::max(acc, v);
+            }
+          }
+        }
+        out[c] = static_cast<float>(reduce == MipReduce::kAverage ? acc / wsum : acc);
+      }
+    }
+  }
+}
+
+// reduce_level's average where both sizes halve exactly: every output texel is the 2 x 2 block
+// under it, every weight 1, so the sum runs in the same order on the same doubles and gives the
+// same bits without the overlap arithmetic.
+void average_2x2(const float* src, int sw, int dw, int dh, int ch, float* dst) {
+  for (int j = 0; j < dh; ++j) {
+    const float* row0 = src + static_cast<size_t>(2 * j) * sw * ch;
+    const float* row1 = row0 + static_cast<size_t>(sw) * ch;
+    float* out = dst + static_cast<size_t>(j) * dw * ch;
+    for (int i = 0; i < dw; ++i)
+      for (int c = 0; c < ch; ++c) {
+        const size_t a = static_cast<size_t>(2 * i) * ch + c, b = a + ch;
+        double acc = 0.0;
+        acc += static_cast<double>(row0[a]);
+        acc += static_cast<double>(row0[b]);
+        acc += static_cast<double>(row1[a]);
+        acc += static_cast<double>(row1[b]);
+        out[static_cast<size_t>(i) * ch + c] = static_cast<float>(acc / 4.0);
+      }
+  }
+}
+
 // Encodes linear float channels into `format` (sRGB colour for 8-bit formats when cs is kSRGB).
 void encode_level(TexFormat format, ColorSpace cs, const float* values, size_t n,
                   std::vector<uint8_t>& out) {
@@ -289,7 +354,7 @@ void encode_level(TexFormat format, ColorSpace cs, const float* values, size_t n
       case TexFormat::kRGBA8:
         for (int c = 0; c < ch; ++c) {
           const bool colour = srgb && c < 3;
-          p[c] = colour ? encode_srgb8(v[c]) : encode_unorm8(v[c]);
+          p[c] = colour ? srgb_byte(v[c]) : encode_unorm8(v[c]);  // encode_srgb8's byte
         }
         break;
       case TexFormat::kR16: {
@@ -532,47 +597,14 @@ void Texture::generate_mips(MipReduce reduce) {
   std::vector<float> src = decode_level(format_, color_space_, levels_[0]);
   int sw = levels_[0].width;
   int sh = levels_[0].height;
-  std::vector<double> wx, wy;
   while (sw > 1 || sh > 1) {
     const int dw = std::max(1, sw / 2);
     const int dh = std::max(1, sh / 2);
     std::vector<float> dst(static_cast<size_t>(dw) * dh * ch);
-    // Output texel i covers source [i*sw/dw, (i+1)*sw/dw): a 2-texel block for even sizes, a
-    // 3-texel block (middle texel shared, half weight) for odd ones, so min/max stay conservative.
-    for (int j = 0; j < dh; ++j) {
-      const double y_lo = static_cast<double>(j) * sh / dh;
-      const double y_hi = static_cast<double>(j + 1) * sh / dh;
-      const int y0 = static_cast<int>(std::floor(y_lo));
-      const int y1 = std::min(sh, static_cast<int>(std::ceil(y_hi)));
-      for (int i = 0; i < dw; ++i) {
-        const double x_lo = static_cast<double>(i) * sw / dw;
-        const double x_hi = static_cast<double>(i + 1) * sw / dw;
-        const int x0 = static_cast<int>(std::floor(x_lo));
-        const int x1 = std::min(sw, static_cast<int>(std::ceil(x_hi)));
-        float* out = &dst[(static_cast<size_t>(j) * dw + i) * ch];
-        for (int c = 0; c < ch; ++c) {
-          double acc = reduce == MipReduce::kAverage ? 0.0
-                       : reduce == MipReduce::kMin   ? HUGE_VAL
-                                                     : -HUGE_VAL;
-          double wsum = 0.0;
-          for (int y = y0; y < y1; ++y) {
-            const double wyv = std::min<double>(y + 1, y_hi) - std::max<double>(y, y_lo);
-            for (int x = x0; x < x1; ++x) {
-              const double v = src[(static_cast<size_t>(y) * sw + x) * ch + c];
-              if (reduce == MipReduce::kAverage) {
-                const double w = wyv * (std::min<double>(x + 1, x_hi) - std::max<double>(x, x_lo));
-                acc += w * v;
-                wsum += w;
-              } else if (reduce == MipReduce::kMin) {
-                acc = std::min(acc, v);
-              } else {
-                acc = std::max(acc, v);
-              }
-            }
-          }
-          out[c] = static_cast<float>(reduce == MipReduce::kAverage ? acc / wsum : acc);
-        }
-      }
+    if (reduce == MipReduce::kAverage && sw == 2 * dw && sh == 2 * dh) {
+      average_2x2(src.data(), sw, dw, dh, ch, dst.data());
+    } else {
+      reduce_level(src.data(), sw, sh, dw, dh, ch, reduce, dst.data());
     }
     MipLevel level;
     level.width = dw;

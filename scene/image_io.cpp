@@ -24,7 +24,7 @@
 #include "rasterizer/output_file.h"
 
 #include "rasterizer/safe_file.h"
-#include "scene/srgb_bytes.h"
+#include "rasterizer/srgb_bytes.h"
 
 namespace relief {
 namespace {

@@ -1,4 +1,4 @@
-#include "scene/srgb_bytes.h"
+#include "rasterizer/srgb_bytes.h"
 
 #include <bit>
 

@@ -1,6 +1,6 @@
 // srgb_byte (tables) against encode_srgb8 (the definition): every float in [0, 1] (all 2^30
 // bit patterns, about 7 s in a Release build), and the values outside it.
-#include "scene/srgb_bytes.h"
+#include "rasterizer/srgb_bytes.h"
 
 #include <gtest/gtest.h>
 

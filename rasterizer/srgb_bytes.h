@@ -1,6 +1,7 @@
-// The 8-bit sRGB encoding of linear colour that .png output writes (scene/image_io.cpp):
-// encode_srgb8 (rasterizer/texture.h, the definition: lround(255 * srgb(clamp(c, 0, 1))), srgb
-// the IEC 61966-2-1 curve in double) through tables instead of a pow a channel.
+// The 8-bit sRGB encoding of linear colour, as .png output (scene/image_io.cpp) and the sRGB
+// textures' levels (rasterizer/texture.cpp: from_floats, generate_mips) store it: encode_srgb8
+// (rasterizer/texture.h, the definition: lround(255 * srgb(clamp(c, 0, 1))), srgb the IEC
+// 61966-2-1 curve in double) through tables instead of a pow a channel.
 #pragma once
 
 #include <cstdint>
