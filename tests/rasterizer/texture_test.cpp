@@ -635,6 +635,50 @@ TEST(Texture, MipReductionsOnNonPowerOfTwoSizes) {
   EXPECT_FLOAT_EQ(m.fetch_r(2, 0, 0), 0.9f);
 }
 
+// A level whose sizes halve exactly holds each 2 x 2 block's mean: the block's stored texels,
+// decoded, summed in double row by row, divided by 4 and stored as the format stores a float. Bit
+// for bit, for floats and for sRGB bytes. 12x6 -> 6x3 halves; 6x3 -> 3x1 does not (the overlap
+// reduction of MipReductionsOnNonPowerOfTwoSizes).
+TEST(Texture, LevelsThatHalveHoldTheExactMeanOfEachBlock) {
+  auto block_mean = [](auto&& at, int x, int y) {
+    double acc = 0.0;
+    acc += at(2 * x, 2 * y);
+    acc += at(2 * x + 1, 2 * y);
+    acc += at(2 * x, 2 * y + 1);
+    acc += at(2 * x + 1, 2 * y + 1);
+    return static_cast<float>(acc / 4.0);
+  };
+  const std::vector<float> r = random_values(12 * 6, 23);
+  Texture f = Texture::from_floats(TexFormat::kR32F, 12, 6, r.data());
+  f.generate_mips();
+  ASSERT_EQ(f.width(1), 6);
+  ASSERT_EQ(f.height(1), 3);
+  for (int y = 0; y < 3; ++y)
+    for (int x = 0; x < 6; ++x) {
+      auto at = [&](int i, int j) { return static_cast<double>(r[j * 12 + i]); };
+      EXPECT_EQ(f.fetch_r(1, x, y), block_mean(at, x, y)) << x << "," << y;
+    }
+
+  const std::vector<float> c = random_values(12 * 6 * 4, 29);
+  Texture t = Texture::from_floats(TexFormat::kRGBA8, 12, 6, c.data(), ColorSpace::kSRGB);
+  t.generate_mips();
+  const std::vector<uint8_t>& l0 = t.level(0).data;
+  const std::vector<uint8_t>& l1 = t.level(1).data;
+  for (int y = 0; y < 3; ++y)
+    for (int x = 0; x < 6; ++x)
+      for (int ch = 0; ch < 4; ++ch) {
+        const float* decode = ch < 3 ? srgb8_table() : unorm8_table();
+        auto at = [&](int i, int j) {
+          return static_cast<double>(decode[l0[(j * 12 + i) * 4 + ch]]);
+        };
+        const float mean = block_mean(at, x, y);
+        const uint8_t want =
+            ch < 3 ? encode_srgb8(mean)
+                   : static_cast<uint8_t>(std::lround(static_cast<double>(mean) * 255.0));
+        EXPECT_EQ(l1[(y * 6 + x) * 4 + ch], want) << x << "," << y << " channel " << ch;
+      }
+}
+
 TEST(Texture, SrgbMipsAverageInLinearSpace) {
   const uint8_t px[] = {0, 0, 0, 0, 255, 255, 255, 255};
   Texture t(TexFormat::kRGBA8, 2, 1, px, ColorSpace::kSRGB);
