@@ -12,8 +12,8 @@ namespace relief {
 // whose byte is k (found by bisection over the float bit patterns with encode_srgb8), and the
 // byte at the first float of each run of 2^16 float bit patterns in [0, 1]. A value's byte is
 // its run's byte, raised past every threshold it reaches (a run spans less than one byte). Equal
-// to the definition for all 2^30 floats in [0, 1] (tests/scene/srgb_bytes_test.cpp checks every
-// one), and both clamp outside it.
+// to the definition for all 2^30 floats in [0, 1] (tests/rasterizer/srgb_bytes_test.cpp checks
+// every one), and both clamp outside it.
 uint8_t srgb_byte(float c);
 
 }  // namespace relief

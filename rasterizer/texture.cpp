@@ -275,11 +275,11 @@ std::vector<float> decode_level(TexFormat format, ColorSpace cs, const MipLevel&
 }
 
 // One mip level from the level above (sw x sh, ch channels) into dst (dw x dh): output texel i
-// covers source [i*sw/dw, (i+1)*sw/dw), each source texel weighted by its overlap, in double.
+// covers source [i*sw/dw, (i+1)*sw/dw), a 2-texel block for even sizes and a 3-texel block
+// (middle texel shared, half weight) for odd ones, so min/max stay conservative; the average
+// weights each source texel by its overlap, in double.
 void reduce_level(const float* src, int sw, int sh, int dw, int dh, int ch, MipReduce reduce,
                   float* dst) {
-  // Output texel i covers source [i*sw/dw, (i+1)*sw/dw): a 2-texel block for even sizes, a
-  // 3-texel block (middle texel shared, half weight) for odd ones, so min/max stay conservative.
   for (int j = 0; j < dh; ++j) {
     const double y_lo = static_cast<double>(j) * sh / dh;
     const double y_hi = static_cast<double>(j + 1) * sh / dh;

@@ -5,9 +5,11 @@
 # ThreadSanitizer build running test_rasterizer and test_frames (the thread pool, tiles,
 # determinism across thread counts and tile sizes, recycled frames, shadow passes: every frame of
 # a built-in scene) but their file-loading suites (hostile input, glTF decoding: no threads of
-# ours, and ASan runs them) and the sRGB table's exhaustive check (one thread, 2^30 floats); test_render's suites (validation, metrics, materials, plugin
-# properties) render through the same pool and tiles as test_frames and run under ASan. Neither runs the script tests (layers, format, style, docs, link, simd.*: they
-# read sources or compile probes, which no sanitizer instruments; the Release run has them).
+# ours, and ASan runs them) and the sRGB table's exhaustive check (one thread, 2^30 floats);
+# test_render's suites (validation, metrics, materials, plugin properties) render through the
+# same pool and tiles as test_frames and run under ASan. Neither runs the script tests (layers,
+# format, style, docs, link, simd.*: they read sources or compile probes, which no sanitizer
+# instruments; the Release run has them).
 # The ASan folder is configured with fuzzer-no-link too, so scripts/ci-fuzz.sh build-ci-asan reuses
 # its libraries. Any report fails the run (halt_on_error). Each step prints its wall time.
 # Usage: scripts/ci-sanitizers.sh [asan|tsan|all]   (build folders build-ci-asan, build-ci-tsan)
