@@ -294,6 +294,47 @@ float reads_unplanned_target(const Texture& t, const SamplerState& s, const floa
                              const float* v, int n) {
   return sum_reads<false>(t, s, u, v, n);
 }
+// relaxed_cone's view-ray search (15 cone steps, 32 fallback, 6 halvings) at the native lanes
+// over the rays u, v, dx, dy: one packet at a time (cone_search) or two side by side
+// (cone_search_pair, as the cone plugins' lane loop runs it). Returns the sum of the hit depths.
+float cone_searches_target(const Texture& depth, const Texture& cone, const SamplerState& s,
+                           const float* u, const float* v, const float* dx, const float* dy, int n,
+                           bool paired) {
+  TextureDepth d[2];
+  TextureCone c[2];
+  for (int p = 0; p < 2; ++p) {
+    d[p].texture = &depth;
+    d[p].sampler = &s;
+    c[p].texture = &cone;
+    c[p].sampler = cone_sampler(s);
+  }
+  const float w = static_cast<float>(depth.width());
+  FN acc(0.0f);
+  const int step = paired ? 2 * kLanes : kLanes;
+  for (int i = 0; i + step <= n; i += step) {
+    const auto ray = [&](int p) {
+      const int at = i + p * kLanes;
+      const V2<FN> ds(FN::load(dx + at), FN::load(dy + at));
+      return ConeRay<FN, TextureDepth, TextureCone>{
+          &d[p],
+          &c[p],
+          V2<FN>(FN::load(u + at), FN::load(v + at)),
+          ds,
+          half_texel_along(static_cast<int>(w), static_cast<int>(w), ds),
+          true_mask<FN>()};
+    };
+    if (paired) {
+      SearchHit<FN> a, b;
+      cone_search_pair(ray(0), ray(1), 15, 32, 6, a, b);
+      acc = acc + a.depth + b.depth;
+    } else {
+      const ConeRay<FN, TextureDepth, TextureCone> r = ray(0);
+      acc =
+          acc + cone_search(*r.depth, *r.cone, r.uv, r.ds, 15, 32, 6, r.view_floor, r.active).depth;
+    }
+  }
+  return lane(acc, 0) + lane(acc, kLanes - 1);
+}
 float color_reads_target(const Texture& t, const float* u, const float* v, size_t n, float step) {
   SamplerState s;
   s.filter = Filter::kTrilinear;
@@ -317,6 +358,26 @@ namespace {
 HWY_EXPORT(reads_planned_target);
 HWY_EXPORT(reads_unplanned_target);
 HWY_EXPORT(color_reads_target);
+HWY_EXPORT(cone_searches_target);
+// relaxed_cone's view-ray search over the fixture's rays at the SIMD level in use, one packet at a
+// time (paired:0) or two side by side (paired:1, what the cone plugins run): rays per second.
+void BM_Kernel_RelaxedConeLanes(benchmark::State& state) {
+  Fixture& f = fixture();
+  f.aim(static_cast<double>(state.range(1)));
+  for (auto _ : state)
+    benchmark::DoNotOptimize(HWY_DYNAMIC_DISPATCH(cone_searches_target)(
+        *f.depth, *f.cone_relaxed, f.sampler, f.u.data(), f.v.data(), f.dsx.data(), f.dsy.data(),
+        kRays, state.range(0) != 0));
+  state.SetItemsProcessed(static_cast<int64_t>(state.iterations()) * kRays);
+  state.SetLabel(simd_level_name(simd_level()));
+}
+BENCHMARK(BM_Kernel_RelaxedConeLanes)
+    ->ArgNames({"paired", "deg"})
+    ->Args({0, 45})
+    ->Args({1, 45})
+    ->Args({0, 80})
+    ->Args({1, 80})
+    ->Unit(benchmark::kMicrosecond);
 float reads_planned(const Texture& t, const SamplerState& s, const float* u, const float* v) {
   return HWY_DYNAMIC_DISPATCH(reads_planned_target)(t, s, u, v, kReads);
 }

@@ -148,6 +148,30 @@ struct ConeFamilySearch {
                        static_cast<int>(p[kIndex.fallback_steps]),
                        static_cast<int>(p[kIndex.binary_steps]), view_floor, active);
   }
+  // search() of two groups of lanes, their rays stepped side by side (cone_search_pair).
+  static constexpr bool kPairedSearch = true;
+  template <class F>
+  static void search_pair(const ShadeContext& ctx, const FragIn<F>& in_a, const FragIn<F>& in_b,
+                          const TextureDepth& depth_a, const TextureDepth& depth_b,
+                          const V2<F>& ds_a, const V2<F>& ds_b, mask_t<F> active_a,
+                          mask_t<F> active_b, SearchHit<F>& hit_a, SearchHit<F>& hit_b) {
+    Cone cone_a, cone_b;
+    if (!make_cone_source(ctx, depth_a, cone_a) || !make_cone_source(ctx, depth_b, cone_b)) {
+      hit_a = {in_a.uv, F(0.0f), F(0.0f), F(0.0f)};
+      hit_b = {in_b.uv, F(0.0f), F(0.0f), F(0.0f)};
+      return;
+    }
+    aim(cone_a, ds_a);
+    aim(cone_b, ds_b);
+    const float* p = ctx.material->params;
+    const int w = depth_a.texture->width(), h = depth_a.texture->height();
+    cone_search_pair(ConeRay<F, TextureDepth, Cone>{&depth_a, &cone_a, in_a.uv, ds_a,
+                                                    half_texel_along(w, h, ds_a), active_a},
+                     ConeRay<F, TextureDepth, Cone>{&depth_b, &cone_b, in_b.uv, ds_b,
+                                                    half_texel_along(w, h, ds_b), active_b},
+                     static_cast<int>(p[kIndex.steps]), static_cast<int>(p[kIndex.fallback_steps]),
+                     static_cast<int>(p[kIndex.binary_steps]), hit_a, hit_b);
+  }
   template <class F>
   static F shadow(const ShadeContext& ctx, const TextureDepth& depth, const SearchHit<F>& hit,
                   const V2<F>& dl, const F& lz, mask_t<F> lit, ShadeOut<F>& o) {

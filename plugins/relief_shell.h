@@ -280,22 +280,50 @@ struct ReliefKernel {
   static constexpr bool kShadowPass = (kEffects & kEffectShadowPass) != 0;
   static constexpr bool kReceive = (kEffects & kEffectReceiveShadow) != 0;
 
+  // What the kernel knows before the search: the view, the ray's texture-space step, the covered
+  // lanes and the depth source at its per-quad LODs.
   template <class F>
-  static ShadeOut<F> shade(const ShadeContext& ctx, const FragIn<F>& in) {
+  struct Ray {
+    // User-provided, as ShadeOut's (plugins/shading.h): compiled for this namespace's target.
+    Ray(const ShadeContext& ctx, const FragIn<F>& in)
+        : view(shell_view(ctx, in)),
+          depth_scale(ctx.material->params[Search::kDepthScale]),
+          ds(texture_step(view.V, depth_scale)),
+          active(covered_lanes(in)),
+          depth(samples_depth_map<Search>()
+                    ? material_depth(*ctx.material, in, search_lod_of<Search>().param,
+                                     search_lod_of<Search>().slot)
+                    : TextureDepth{ctx.material->textures[kDepthSlot],
+                                   &ctx.material->samplers[kDepthSlot],
+                                   {},
+                                   {}}) {}
+    ShellView<F> view;
+    F depth_scale;
+    V2<F> ds;
+    mask_t<F> active;
+    TextureDepth depth;
+  };
+
+  // The hit of the ray, or the fragment's own uv at depth 0 without a depth map.
+  template <class F>
+  static SearchHit<F> search(const ShadeContext& ctx, const FragIn<F>& in, const Ray<F>& r) {
+    if (!r.depth.texture) return {in.uv, F(0.0f), F(0.0f), F(0.0f)};
+    return Search::search(ctx, in, r.depth, r.view.V, r.ds, r.active);
+  }
+
+  // Everything after the search: the corrected depth, and outside the shadow pass the surface
+  // shaded at the hit.
+  template <class F>
+  static ShadeOut<F> finish(const ShadeContext& ctx, const FragIn<F>& in, const Ray<F>& r,
+                            const SearchHit<F>& hit) {
     const MaterialUniforms& m = *ctx.material;
     ShadeOut<F> o;
-    const ShellView<F> view = shell_view(ctx, in);
+    const ShellView<F>& view = r.view;
     const TangentFrame<F>& tf = view.tf;
-    const V3<F>&w = view.w, &V = view.V;
-    const F depth_scale(m.params[Search::kDepthScale]);
-    const V2<F> ds = texture_step(V, depth_scale);
-    const mask_t<F> active = covered_lanes(in);
-    const TextureDepth depth =
-        samples_depth_map<Search>()
-            ? material_depth(m, in, search_lod_of<Search>().param, search_lod_of<Search>().slot)
-            : TextureDepth{m.textures[kDepthSlot], &m.samplers[kDepthSlot], {}, {}};
-    SearchHit<F> hit{in.uv, F(0.0f), F(0.0f), F(0.0f)};
-    if (depth.texture) hit = Search::search(ctx, in, depth, V, ds, active);
+    const V3<F>& w = view.w;
+    const F& depth_scale = r.depth_scale;
+    const mask_t<F> active = r.active;
+    const TextureDepth& depth = r.depth;
     const V3<F> pos = record_hit(in, view, depth_scale, hit, o);
     if constexpr (kDepth) o.depth = corrected_depth(ctx, in, pos);
     if constexpr (kShadowPass) {
@@ -326,6 +354,47 @@ struct ReliefKernel {
       o.shading_normal = n;
       return o;
     }
+  }
+
+  // Two groups of lanes at once where the technique searches two side by side
+  // (Search::search_pair; shade_lanes in plugins/shading.h walks a packet two groups at a time):
+  // the same outputs as shade() of each.
+  static constexpr bool kPaired = requires { Search::kPairedSearch; };
+
+  // finish() compiled once for the three calls of a paired kernel's lane loop (both groups of a
+  // pair, and a packet's odd last group), not inlined into each: the lighting is most of a
+  // kernel's code, and three copies of it doubled the plugin's compile time.
+  template <class F>
+  RELIEF_LANE_FLATTEN __attribute__((noinline)) static ShadeOut<F> finish_out_of_line(
+      const ShadeContext& ctx, const FragIn<F>& in, const Ray<F>& r, const SearchHit<F>& hit) {
+    return finish(ctx, in, r, hit);
+  }
+  template <class F>
+  static ShadeOut<F> finish_once(const ShadeContext& ctx, const FragIn<F>& in, const Ray<F>& r,
+                                 const SearchHit<F>& hit) {
+    if constexpr (kPaired && is_lanes_v<F>)
+      return finish_out_of_line(ctx, in, r, hit);
+    else
+      return finish(ctx, in, r, hit);
+  }
+
+  template <class F>
+  static ShadeOut<F> shade(const ShadeContext& ctx, const FragIn<F>& in) {
+    const Ray<F> r(ctx, in);
+    return finish_once(ctx, in, r, search(ctx, in, r));
+  }
+
+  template <class F>
+  static void shade_pair(const ShadeContext& ctx, const FragIn<F>& in_a, const FragIn<F>& in_b,
+                         ShadeOut<F>& out_a, ShadeOut<F>& out_b) {
+    const Ray<F> ra(ctx, in_a), rb(ctx, in_b);
+    SearchHit<F> hit_a{in_a.uv, F(0.0f), F(0.0f), F(0.0f)};
+    SearchHit<F> hit_b{in_b.uv, F(0.0f), F(0.0f), F(0.0f)};
+    if (ra.depth.texture)
+      Search::search_pair(ctx, in_a, in_b, ra.depth, rb.depth, ra.ds, rb.ds, ra.active, rb.active,
+                          hit_a, hit_b);
+    out_a = finish_once(ctx, in_a, ra, hit_a);
+    out_b = finish_once(ctx, in_b, rb, hit_b);
   }
 };
 

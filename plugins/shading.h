@@ -238,6 +238,15 @@ inline ShadeOut<F> resolve_alpha(const MaterialUniforms& m, ShadeOut<F> o) {
 // same bits either way. It is compiled for the SIMD target of the enclosing namespace, kernel
 // and all; RELIEF_SELECT_FOR_EVERY_TARGET hands out the right target's copy per draw.
 namespace detail {
+// Whether a kernel shades two groups of lanes at once (static constexpr bool kPaired and
+// shade_pair<F>(ctx, in_a, in_b, out_a, out_b), the same outputs as shade<F> of each).
+template <class Kernel>
+constexpr bool paired_kernel() {
+  if constexpr (requires { Kernel::kPaired; })
+    return Kernel::kPaired;
+  else
+    return false;
+}
 // The lane loop. `flatten` inlines the kernel, its search and its lighting into it (the samplers
 // stay out of line, in sampling_simd.cpp): a matter of speed only, since caller and callees are
 // all this target's code; without it GCC left small lane functions out of line, 13% more
@@ -248,7 +257,22 @@ RELIEF_LANE_FLATTEN void shade_lanes(const ShadeContext& ctx, const FragmentPack
   static_assert(kPacketLanes % kLanes == 0);
   const int lanes = in.num_quads * kQuadLanes;
   WorkLanes<FN> work;
-  for (int l = 0; l < lanes; l += kLanes) {
+  int l = 0;
+  if constexpr (paired_kernel<Kernel>()) {
+    // two groups at a time (Kernel::shade_pair), the last one alone when their count is odd
+    for (; l + kLanes < lanes; l += 2 * kLanes) {
+      const FragIn<FN> fa = load_fragment<FN>(in, l), fb = load_fragment<FN>(in, l + kLanes);
+      ShadeOut<FN> oa, ob;
+      Kernel::template shade_pair<FN>(ctx, fa, fb, oa, ob);
+      oa = resolve_alpha(*ctx.material, oa);
+      ob = resolve_alpha(*ctx.material, ob);
+      store_out(oa, in, l, out);
+      store_out(ob, in, l + kLanes, out);
+      work.add(oa, counted_lanes<FN>(in, l));
+      work.add(ob, counted_lanes<FN>(in, l + kLanes));
+    }
+  }
+  for (; l < lanes; l += kLanes) {
     const FragIn<FN> f = load_fragment<FN>(in, l);
     const ShadeOut<FN> o = resolve_alpha(*ctx.material, Kernel::template shade<FN>(ctx, f));
     store_out(o, in, l, out);

@@ -146,20 +146,31 @@ struct ConeMarch {
   F steps, fetches;
 };
 
-// Cone stepping (n steps at most) from depth 0 on `depth`, capped at t_max <= 1 per lane.
+// Cone stepping (n steps at most) from depth 0 on `depth`, capped at t_max <= 1 per lane, one
+// step a call of step() while more(): cone_march_state runs it to the end, and
+// cone_search_pair runs two packets' marches side by side (step_both).
 // Conservative cones safe for the sampled surface never pass its first intersection; relaxed
 // cones may step into the surface, and then stop at the first sample inside. (A floor under the
 // step, one or a quarter texel along the ray, so that a march skimming a surface cannot stall,
 // was measured worse on light rays: it leaves more of the ray to the coarse fallback.)
 template <class F, class Depth, class Cone>
-inline ConeMarch<F> cone_march_state(const Depth& depth, const Cone& cone, V2<F> uv, V2<F> ds,
-                                     int n, F t_max, mask_t<F> active) {
-  const F ray_ratio = vsqrt(ds.x * ds.x + ds.y * ds.y);
-  ConeMarch<F> m{F(0.0f), F(0.0f), false_mask<F>(), F(0.0f), F(0.0f)};
-  mask_t<F> marching = active & (m.t < t_max);
-  for (int i = 0; i < n && any(marching); ++i) {
+struct ConeMarcher {
+  // User-provided, as ShadeOut's (plugins/shading.h): compiled for this namespace's target.
+  ConeMarcher(const Depth& depth_, const Cone& cone_, V2<F> uv_, V2<F> ds_, int n_, F t_max_,
+              mask_t<F> active)
+      : depth(&depth_),
+        cone(&cone_),
+        uv(uv_),
+        ds(ds_),
+        t_max(t_max_),
+        ray_ratio(vsqrt(ds_.x * ds_.x + ds_.y * ds_.y)),
+        n(n_),
+        m{F(0.0f), F(0.0f), false_mask<F>(), F(0.0f), F(0.0f)},
+        marching(active & (m.t < t_max_)) {}
+  bool more() const { return i < n && any(marching); }
+  void step() {
     const ConeTexel<F> c =
-        sample_cone_texel(depth, cone, uv + ds * m.t, marching, m.steps, m.fetches);
+        sample_cone_texel(*depth, *cone, uv + ds * m.t, marching, m.steps, m.fetches);
     const F r = c.ratio;
     const F h = c.depth - m.t;
     m.inside = m.inside | (marching & !(h > F(0.0f)));
@@ -171,8 +182,37 @@ inline ConeMarch<F> cone_march_state(const Depth& depth, const Cone& cone, V2<F>
     const F step = r * h / select(moves, den, F(1.0f));
     m.t = select(moves, vmin(m.t + step, t_max), m.t);
     marching = marching & (m.t < t_max);
+    ++i;
   }
-  return m;
+
+  const Depth* depth;
+  const Cone* cone;
+  V2<F> uv, ds;
+  F t_max, ray_ratio;
+  int n, i = 0;
+  ConeMarch<F> m;
+  mask_t<F> marching;
+};
+
+template <class F, class Depth, class Cone>
+inline ConeMarch<F> cone_march_state(const Depth& depth, const Cone& cone, V2<F> uv, V2<F> ds,
+                                     int n, F t_max, mask_t<F> active) {
+  ConeMarcher<F, Depth, Cone> marcher(depth, cone, uv, ds, n, t_max, active);
+  while (marcher.more()) marcher.step();
+  return marcher.m;
+}
+
+// Two steppers (ConeMarcher, ConeFallback) of two packets run to their ends side by side, a step
+// of each in turn: a step is a chain of dependent latencies (its reads, then the division), and
+// the other packet's step runs in its waits. Each packet computes what it computes alone.
+template <class Stepper>
+inline void step_both(Stepper& a, Stepper& b) {
+  for (;;) {
+    const bool more_a = a.more(), more_b = b.more();
+    if (!more_a && !more_b) return;
+    if (more_a) a.step();
+    if (more_b) b.step();
+  }
 }
 
 // The march alone, as a hit at the position it stopped (the chapter's K; for conservative cones
@@ -219,6 +259,104 @@ inline F ramped_floor(int j, int ramp, const F& floor, const F& view_floor) {
   return j < ramp ? vmin(floor, view_floor * F(std::ldexp(1.0f, j - ramp))) : floor;
 }
 
+// cone_finish's cone steps after the march, one a call of step() while more() (as ConeMarcher).
+template <class F, class Depth, class Cone>
+struct ConeFallback {
+  // User-provided, as ConeMarcher's.
+  ConeFallback(const Depth& depth_, const Cone& cone_, V2<F> uv_, V2<F> ds_, const ConeMarch<F>& mr,
+               int k_, F t_max_, bool bottom_, F view_floor_, mask_t<F> active)
+      : depth(&depth_),
+        cone(&cone_),
+        uv(uv_),
+        ds(ds_),
+        t_max(t_max_),
+        view_floor(view_floor_),
+        ray_ratio(vsqrt(ds_.x * ds_.x + ds_.y * ds_.y)),
+        lo(mr.t_out),
+        hi(mr.t),
+        steps(mr.steps),
+        fetches(mr.fetches),
+        floor((t_max_ - mr.t) * F(1.0f / static_cast<float>(k_))),
+        s(mr.t),
+        found(active & mr.inside),
+        searching(active & !mr.inside & (mr.t < t_max_)),
+        k(k_),
+        ramp(fallback_ramp(k_)),
+        bottom(bottom_) {
+    if (bottom) floor = vmin(floor, view_floor);
+  }
+  bool more() const { return j < k && any(searching); }
+  void step() {
+    const ConeTexel<F> c = sample_cone_texel(*depth, *cone, uv + ds * s, searching, steps, fetches);
+    const F h = c.depth - s;
+    const mask_t<F> in = searching & !(h > F(0.0f));
+    found = found | in;
+    hi = select(in, s, hi);
+    searching = searching & !in;
+    lo = select(searching, s, lo);
+    const F den = ray_ratio + c.ratio;
+    const F step = vmax(c.ratio * h / select(den > F(0.0f), den, F(1.0f)),
+                        bottom ? ramped_floor(j, ramp, floor, view_floor) : floor);
+    s = select(searching, vmin(s + step, t_max), s);
+    searching = searching & (s < t_max);
+    ++j;
+  }
+
+  const Depth* depth;
+  const Cone* cone;
+  V2<F> uv, ds;
+  F t_max, view_floor, ray_ratio;
+  F lo, hi, steps, fetches, floor, s;
+  mask_t<F> found, searching;
+  int k, ramp, j = 0;
+  bool bottom;
+};
+
+// What cone_finish does once its cone steps are done, in three parts that cone_search_pair runs
+// for two packets: cone_close (a view ray's even samples; the lanes at t_max), the halvings of
+// every found lane's bracket (bisect or Bisector with a ConeInside test), cone_hit.
+template <class F, class Depth, class Cone>
+inline void cone_close(ConeFallback<F, Depth, Cone>& fb, mask_t<F> active) {
+  const Depth& depth = *fb.depth;
+  const V2<F> uv = fb.uv, ds = fb.ds;
+  const F t_max = fb.t_max;
+  F &lo = fb.lo, &hi = fb.hi, &steps = fb.steps, &fetches = fb.fetches;
+  mask_t<F>&found = fb.found, &searching = fb.searching;
+  const int k = fb.k;
+  if (fb.bottom) {
+    // view rays the short steps did not finish: k even samples over the rest, [s, t_max)
+    const F s0 = fb.s, rest = t_max - fb.s;
+    for (int j = 0; j < k && any(searching); ++j) {
+      const F u = s0 + rest * F(static_cast<float>(j) / static_cast<float>(k));
+      const F d = sample_depth(depth, uv + ds * u, searching);
+      steps += detail::count<F>(searching);
+      fetches += detail::count<F>(searching);
+      const mask_t<F> in = searching & (d <= u);
+      found = found | in;
+      hi = select(in, u, hi);
+      searching = searching & !in;
+      lo = select(searching, u, lo);
+    }
+  }
+  const mask_t<F> at_end = active & !found;  // reached t_max, or out of fallback steps
+  hi = select(at_end, t_max, hi);
+  if (fb.bottom) found = found | at_end;
+}
+// The halvings' test: the sample at depth mid is inside.
+template <class F, class Depth>
+struct ConeInside {
+  const Depth* depth;
+  V2<F> uv, ds;
+  mask_t<F> operator()(const F& mid, mask_t<F> refine) const {
+    return sample_depth(*depth, uv + ds * mid, refine) <= mid;
+  }
+};
+template <class F, class Depth, class Cone>
+inline ConeHit<F> cone_hit(const ConeFallback<F, Depth, Cone>& fb, mask_t<F> active) {
+  const F t = select(active, fb.hi, F(0.0f));
+  return {{fb.uv + fb.ds * t, t, fb.steps, fb.fetches}, fb.found};
+}
+
 // The bracket-safe end of a cone march on the field it marched (`depth`, the surface the hit is
 // reported on). Lanes whose march sampled a point inside keep [t_out, t] as their bracket. Lanes
 // it left outside (out of steps, a stalled conservative march, or at t_max) fall back to k more
@@ -238,52 +376,12 @@ template <class F, class Depth, class Cone>
 inline ConeHit<F> cone_finish(const Depth& depth, const Cone& cone, V2<F> uv, V2<F> ds,
                               const ConeMarch<F>& mr, int k, int m, F t_max, bool bottom,
                               F view_floor, mask_t<F> active) {
-  const F ray_ratio = vsqrt(ds.x * ds.x + ds.y * ds.y);
-  F lo = mr.t_out, hi = mr.t;
-  F steps = mr.steps, fetches = mr.fetches;
-  mask_t<F> found = active & mr.inside;
-  mask_t<F> searching = active & !mr.inside & (mr.t < t_max);
-  F floor = (t_max - mr.t) * F(1.0f / static_cast<float>(k));
-  if (bottom) floor = vmin(floor, view_floor);
-  const int ramp = fallback_ramp(k);
-  F s = mr.t;
-  for (int j = 0; j < k && any(searching); ++j) {
-    const ConeTexel<F> c = sample_cone_texel(depth, cone, uv + ds * s, searching, steps, fetches);
-    const F h = c.depth - s;
-    const mask_t<F> in = searching & !(h > F(0.0f));
-    found = found | in;
-    hi = select(in, s, hi);
-    searching = searching & !in;
-    lo = select(searching, s, lo);
-    const F den = ray_ratio + c.ratio;
-    const F step = vmax(c.ratio * h / select(den > F(0.0f), den, F(1.0f)),
-                        bottom ? ramped_floor(j, ramp, floor, view_floor) : floor);
-    s = select(searching, vmin(s + step, t_max), s);
-    searching = searching & (s < t_max);
-  }
-  if (bottom) {
-    // view rays the short steps did not finish: k even samples over the rest, [s, t_max)
-    const F s0 = s, rest = t_max - s;
-    for (int j = 0; j < k && any(searching); ++j) {
-      const F u = s0 + rest * F(static_cast<float>(j) / static_cast<float>(k));
-      const F d = sample_depth(depth, uv + ds * u, searching);
-      steps += detail::count<F>(searching);
-      fetches += detail::count<F>(searching);
-      const mask_t<F> in = searching & (d <= u);
-      found = found | in;
-      hi = select(in, u, hi);
-      searching = searching & !in;
-      lo = select(searching, u, lo);
-    }
-  }
-  const mask_t<F> at_end = active & !found;  // reached t_max, or out of fallback steps
-  hi = select(at_end, t_max, hi);
-  if (bottom) found = found | at_end;
-  bisect(lo, hi, found & (hi > lo), m, 1.0f, steps, fetches, [&](const F& mid, mask_t<F> refine) {
-    return sample_depth(depth, uv + ds * mid, refine) <= mid;
-  });
-  const F t = select(active, hi, F(0.0f));
-  return {{uv + ds * t, t, steps, fetches}, found};
+  ConeFallback<F, Depth, Cone> fb(depth, cone, uv, ds, mr, k, t_max, bottom, view_floor, active);
+  while (fb.more()) fb.step();
+  cone_close(fb, active);
+  const ConeInside<F, Depth> inside{&depth, uv, ds};
+  bisect(fb.lo, fb.hi, fb.found & (fb.hi > fb.lo), m, 1.0f, fb.steps, fb.fetches, inside);
+  return cone_hit(fb, active);
 }
 
 // Cone stepping (n steps, any cone kind) on `depth` then cone_finish (k fallback steps of at most
@@ -296,6 +394,43 @@ inline SearchHit<F> cone_search(const Depth& depth, const Cone& cone, V2<F> uv, 
                                 int k, int m, F view_floor, mask_t<F> active) {
   const ConeMarch<F> mr = cone_march_state(depth, cone, uv, ds, n, F(1.0f), active);
   return cone_finish(depth, cone, uv, ds, mr, k, m, F(1.0f), true, view_floor, active).hit;
+}
+
+// One cone source and view ray per packet, for cone_search_pair.
+template <class F, class Depth, class Cone>
+struct ConeRay {
+  const Depth* depth;
+  const Cone* cone;
+  V2<F> uv, ds;
+  F view_floor;
+  mask_t<F> active;
+};
+
+// cone_search of two packets, their marches and then their fallback steps run side by side
+// (step_both): the same hits and counters as two calls of cone_search, in less time where the
+// steps wait on their reads (docs/performance.md, "two packets in flight").
+template <class F, class Depth, class Cone>
+inline void cone_search_pair(const ConeRay<F, Depth, Cone>& a, const ConeRay<F, Depth, Cone>& b,
+                             int n, int k, int m, SearchHit<F>& hit_a, SearchHit<F>& hit_b) {
+  ConeMarcher<F, Depth, Cone> march_a(*a.depth, *a.cone, a.uv, a.ds, n, F(1.0f), a.active);
+  ConeMarcher<F, Depth, Cone> march_b(*b.depth, *b.cone, b.uv, b.ds, n, F(1.0f), b.active);
+  step_both(march_a, march_b);
+  ConeFallback<F, Depth, Cone> fall_a(*a.depth, *a.cone, a.uv, a.ds, march_a.m, k, F(1.0f), true,
+                                      a.view_floor, a.active);
+  ConeFallback<F, Depth, Cone> fall_b(*b.depth, *b.cone, b.uv, b.ds, march_b.m, k, F(1.0f), true,
+                                      b.view_floor, b.active);
+  step_both(fall_a, fall_b);
+  cone_close(fall_a, a.active);
+  cone_close(fall_b, b.active);
+  const ConeInside<F, Depth> inside_a{a.depth, a.uv, a.ds}, inside_b{b.depth, b.uv, b.ds};
+  using Halving = Bisector<F, ConeInside<F, Depth>>;
+  Halving half_a(fall_a.lo, fall_a.hi, fall_a.found & (fall_a.hi > fall_a.lo), m, 1.0f,
+                 fall_a.steps, fall_a.fetches, inside_a);
+  Halving half_b(fall_b.lo, fall_b.hi, fall_b.found & (fall_b.hi > fall_b.lo), m, 1.0f,
+                 fall_b.steps, fall_b.fetches, inside_b);
+  step_both(half_a, half_b);
+  hit_a = cone_hit(fall_a, a.active).hit;
+  hit_b = cone_hit(fall_b, b.active).hit;
 }
 
 // A light ray's occluder search (see light_ray_shadow): the march and the fallback (steps of at

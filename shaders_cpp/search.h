@@ -173,36 +173,71 @@ inline SearchHit<F> linear_search(const Depth& depth, V2<F> uv, V2<F> ds, F n, m
 // sequential halving computes, then the second is picked by the first's outcome. Same brackets
 // bit for bit; a third more tests, but they run side by side instead of one after the other
 // (a test is a chain of dependent latencies). Counters count the sequential halvings.
+//
+// bisect_round is one round from halving i (it returns the next round's i); bisect runs the
+// rounds, Bisector runs them one a call of step() while more(), so that two packets' halvings
+// can run side by side (shaders_cpp/cone.h, step_both).
+template <class F, class Inside>
+inline int bisect_round(F& lo, F& hi, mask_t<F> refine, int i, int m, const F& per_lane,
+                        const F& per_step, F& steps, F& fetches, const Inside& inside) {
+  constexpr bool kTwoPerRound = lane_width < F >> 1;
+  const F mid = (lo + hi) * F(0.5f);
+  if (kTwoPerRound && i + 1 < m) {
+    const F mid_lo = (lo + mid) * F(0.5f), mid_hi = (mid + hi) * F(0.5f);
+    const mask_t<F> in = inside(mid, refine);
+    const mask_t<F> in_lo = inside(mid_lo, refine), in_hi = inside(mid_hi, refine);
+    hi = select(refine & in, mid, hi);
+    lo = select(refine & !in, mid, lo);
+    const F mid2 = select(in, mid_lo, mid_hi);
+    const mask_t<F> in2 = (in & in_lo) | ((!in) & in_hi);
+    hi = select(refine & in2, mid2, hi);
+    lo = select(refine & !in2, mid2, lo);
+    steps += per_lane + per_lane;
+    fetches += per_step + per_step;
+    return i + 2;
+  }
+  const mask_t<F> in = inside(mid, refine);
+  hi = select(refine & in, mid, hi);
+  lo = select(refine & !in, mid, lo);
+  steps += per_lane;
+  fetches += per_step;
+  return i + 1;
+}
+
 template <class F, class Inside>
 inline void bisect(F& lo, F& hi, mask_t<F> refine, int m, float fetches_per_step, F& steps,
                    F& fetches, const Inside& inside) {
-  constexpr bool kTwoPerRound = lane_width < F >> 1;
   const F per_lane = detail::count<F>(refine);  // `refine` is fixed: so are the counts a step adds
   const F per_step = per_lane * F(fetches_per_step);
-  for (int i = 0; i < m && any(refine); ++i) {
-    const F mid = (lo + hi) * F(0.5f);
-    if (kTwoPerRound && i + 1 < m) {
-      const F mid_lo = (lo + mid) * F(0.5f), mid_hi = (mid + hi) * F(0.5f);
-      const mask_t<F> in = inside(mid, refine);
-      const mask_t<F> in_lo = inside(mid_lo, refine), in_hi = inside(mid_hi, refine);
-      hi = select(refine & in, mid, hi);
-      lo = select(refine & !in, mid, lo);
-      const F mid2 = select(in, mid_lo, mid_hi);
-      const mask_t<F> in2 = (in & in_lo) | ((!in) & in_hi);
-      hi = select(refine & in2, mid2, hi);
-      lo = select(refine & !in2, mid2, lo);
-      steps += per_lane + per_lane;
-      fetches += per_step + per_step;
-      ++i;
-      continue;
-    }
-    const mask_t<F> in = inside(mid, refine);
-    hi = select(refine & in, mid, hi);
-    lo = select(refine & !in, mid, lo);
-    steps += per_lane;
-    fetches += per_step;
-  }
+  for (int i = 0; i < m && any(refine);)
+    i = bisect_round(lo, hi, refine, i, m, per_lane, per_step, steps, fetches, inside);
 }
+
+template <class F, class Inside>
+struct Bisector {
+  // User-provided, as ShadeOut's (plugins/shading.h): compiled for this namespace's target.
+  Bisector(F& lo_, F& hi_, mask_t<F> refine_, int m_, float fetches_per_step, F& steps_,
+           F& fetches_, const Inside& inside_)
+      : lo(lo_),
+        hi(hi_),
+        steps(steps_),
+        fetches(fetches_),
+        inside(inside_),
+        refine(refine_),
+        per_lane(detail::count<F>(refine_)),
+        per_step(per_lane * F(fetches_per_step)),
+        m(m_) {}
+  bool more() const { return i < m && any(refine); }
+  void step() {
+    i = bisect_round(lo, hi, refine, i, m, per_lane, per_step, steps, fetches, inside);
+  }
+
+  F &lo, &hi, &steps, &fetches;
+  const Inside& inside;
+  mask_t<F> refine;
+  F per_lane, per_step;
+  int m, i = 0;
+};
 
 // Binary search (m halvings) between the last outside and first inside depths of `b`: keeps the
 // half whose ends straddle the surface and returns the inside end. Adds to `hit`'s counters.

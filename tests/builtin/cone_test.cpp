@@ -145,6 +145,53 @@ TEST(Cone, FinishFallsBackToFlooredStepsThenBisects) {
   EXPECT_EQ(lit.depth, 0.4f);
 }
 
+// Two packets searched side by side (cone_search_pair: marches, fallback steps and halvings
+// interleaved) give each packet the bits of its own cone_search, counters included: on every
+// field and cone kind, with packets of different lengths (one with a lane inactive, one whose
+// lanes all stop at once, one with no active lane) and per-packet fallback floors.
+TEST(Cone, PairedSearchGivesEachPacketItsOwnSearch) {
+  for (const ConeField& c : fields()) {
+    const std::vector<testing::RandomRay> rs = rays(8 * 24, 17);
+    const TextureCone rel = c.cone(c.relaxed), cons = c.cone(c.cons);
+    for (size_t k = 0; k + 16 <= rs.size(); k += 16) {
+      V2<F8> uv[2], ds[2];
+      for (int p = 0; p < 2; ++p)
+        for (int i = 0; i < 8; ++i) {
+          const testing::RandomRay& r = rs[k + 8 * p + i];
+          set_lane(uv[p].x, i, r.u);
+          set_lane(uv[p].y, i, r.v);
+          set_lane(ds[p].x, i, r.dsx);
+          set_lane(ds[p].y, i, r.dsy);
+        }
+      M8 active[2] = {true_mask<F8>(), true_mask<F8>()};
+      set_lane(active[0], (k / 16) % 8, false);
+      if (k / 16 == 3) active[1] = false_mask<F8>();
+      if (k / 16 == 5) ds[1] = V2<F8>(F8(0.0f), F8(0.0f));  // straight down: stops at once
+      const F8 floor_a = half_texel_along(c.f.w, c.f.h, ds[0]);
+      const F8 floor_b = F8(0.25f) * half_texel_along(c.f.w, c.f.h, ds[1]);
+      for (const TextureCone* cone : {&rel, &cons}) {
+        using Ray = ConeRay<F8, FloatField, TextureCone>;
+        SearchHit<F8> a, b;
+        cone_search_pair(Ray{&c.f, cone, uv[0], ds[0], floor_a, active[0]},
+                         Ray{&c.f, cone, uv[1], ds[1], floor_b, active[1]}, 15, 32, 6, a, b);
+        const SearchHit<F8> one_a =
+            cone_search(c.f, *cone, uv[0], ds[0], 15, 32, 6, floor_a, active[0]);
+        const SearchHit<F8> one_b =
+            cone_search(c.f, *cone, uv[1], ds[1], 15, 32, 6, floor_b, active[1]);
+        for (const auto& [got, want] : {std::pair{&a, &one_a}, std::pair{&b, &one_b}})
+          for (int i = 0; i < 8; ++i) {
+            SCOPED_TRACE(c.name + " rays " + std::to_string(k) + " lane " + std::to_string(i));
+            EXPECT_EQ(bits_of(lane(got->uv.x, i)), bits_of(lane(want->uv.x, i)));
+            EXPECT_EQ(bits_of(lane(got->uv.y, i)), bits_of(lane(want->uv.y, i)));
+            EXPECT_EQ(bits_of(lane(got->depth, i)), bits_of(lane(want->depth, i)));
+            EXPECT_EQ(lane(got->steps, i), lane(want->steps, i));
+            EXPECT_EQ(lane(got->fetches, i), lane(want->fetches, i));
+          }
+      }
+    }
+  }
+}
+
 TEST(Cone, InactiveLanesDoNothing) {
   const ConeField& c = fields()[0];
   M8 active = true_mask<F8>();
