@@ -135,18 +135,31 @@ struct ConeFamilySearch {
   static void aim(Cone& cone, const V2<F>& dir) {
     if constexpr (requires { cone.aim(dir); }) cone.aim(dir);
   }
+  // The view ray of one group for cone_search: the cone aimed along ds, the fallback floor half a
+  // texel of the depth map along the ray.
+  template <class F>
+  static ConeRay<F, TextureDepth, Cone> view_ray(const TextureDepth& depth, Cone& cone,
+                                                 const FragIn<F>& in, const V2<F>& ds,
+                                                 mask_t<F> active) {
+    aim(cone, ds);
+    return {&depth,
+            &cone,
+            in.uv,
+            ds,
+            half_texel_along(depth.texture->width(), depth.texture->height(), ds),
+            active};
+  }
   template <class F>
   static SearchHit<F> search(const ShadeContext& ctx, const FragIn<F>& in,
                              const TextureDepth& depth, const V3<F>&, const V2<F>& ds,
                              mask_t<F> active) {
     Cone cone;
-    if (!make_cone_source(ctx, depth, cone)) return {in.uv, F(0.0f), F(0.0f), F(0.0f)};
-    aim(cone, ds);
+    if (!make_cone_source(ctx, depth, cone)) return unmoved_hit(in);
+    const ConeRay<F, TextureDepth, Cone> r = view_ray(depth, cone, in, ds, active);
     const float* p = ctx.material->params;
-    const F view_floor = half_texel_along(depth.texture->width(), depth.texture->height(), ds);
-    return cone_search(depth, cone, in.uv, ds, static_cast<int>(p[kIndex.steps]),
+    return cone_search(depth, cone, r.uv, r.ds, static_cast<int>(p[kIndex.steps]),
                        static_cast<int>(p[kIndex.fallback_steps]),
-                       static_cast<int>(p[kIndex.binary_steps]), view_floor, active);
+                       static_cast<int>(p[kIndex.binary_steps]), r.view_floor, r.active);
   }
   // search() of two groups of lanes, their rays stepped side by side (cone_search_pair).
   static constexpr bool kPairedSearch = true;
@@ -157,18 +170,13 @@ struct ConeFamilySearch {
                           mask_t<F> active_b, SearchHit<F>& hit_a, SearchHit<F>& hit_b) {
     Cone cone_a, cone_b;
     if (!make_cone_source(ctx, depth_a, cone_a) || !make_cone_source(ctx, depth_b, cone_b)) {
-      hit_a = {in_a.uv, F(0.0f), F(0.0f), F(0.0f)};
-      hit_b = {in_b.uv, F(0.0f), F(0.0f), F(0.0f)};
+      hit_a = unmoved_hit(in_a);
+      hit_b = unmoved_hit(in_b);
       return;
     }
-    aim(cone_a, ds_a);
-    aim(cone_b, ds_b);
     const float* p = ctx.material->params;
-    const int w = depth_a.texture->width(), h = depth_a.texture->height();
-    cone_search_pair(ConeRay<F, TextureDepth, Cone>{&depth_a, &cone_a, in_a.uv, ds_a,
-                                                    half_texel_along(w, h, ds_a), active_a},
-                     ConeRay<F, TextureDepth, Cone>{&depth_b, &cone_b, in_b.uv, ds_b,
-                                                    half_texel_along(w, h, ds_b), active_b},
+    cone_search_pair(view_ray(depth_a, cone_a, in_a, ds_a, active_a),
+                     view_ray(depth_b, cone_b, in_b, ds_b, active_b),
                      static_cast<int>(p[kIndex.steps]), static_cast<int>(p[kIndex.fallback_steps]),
                      static_cast<int>(p[kIndex.binary_steps]), hit_a, hit_b);
   }

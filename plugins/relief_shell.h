@@ -144,6 +144,12 @@ mask_t<F> covered_lanes(const FragIn<F>& in) {
   return m;
 }
 
+// The hit of a search that does not move: the fragment's own uv at depth 0, no work.
+template <class F>
+SearchHit<F> unmoved_hit(const FragIn<F>& in) {
+  return {in.uv, F(0.0f), F(0.0f), F(0.0f)};
+}
+
 // The material's depth map (slot kDepthSlot) at a constant LOD per quad: the derivatives are per
 // quad, so the LOD is computed at a quad's first lane and copied to the other three. No LOD when
 // the slot is empty (the source must then not be sampled). With a `lod` parameter (params index
@@ -307,7 +313,7 @@ struct ReliefKernel {
   // The hit of the ray, or the fragment's own uv at depth 0 without a depth map.
   template <class F>
   static SearchHit<F> search(const ShadeContext& ctx, const FragIn<F>& in, const Ray<F>& r) {
-    if (!r.depth.texture) return {in.uv, F(0.0f), F(0.0f), F(0.0f)};
+    if (!r.depth.texture) return unmoved_hit(in);
     return Search::search(ctx, in, r.depth, r.view.V, r.ds, r.active);
   }
 
@@ -388,8 +394,7 @@ struct ReliefKernel {
   static void shade_pair(const ShadeContext& ctx, const FragIn<F>& in_a, const FragIn<F>& in_b,
                          ShadeOut<F>& out_a, ShadeOut<F>& out_b) {
     const Ray<F> ra(ctx, in_a), rb(ctx, in_b);
-    SearchHit<F> hit_a{in_a.uv, F(0.0f), F(0.0f), F(0.0f)};
-    SearchHit<F> hit_b{in_b.uv, F(0.0f), F(0.0f), F(0.0f)};
+    SearchHit<F> hit_a = unmoved_hit(in_a), hit_b = unmoved_hit(in_b);
     if (ra.depth.texture)
       Search::search_pair(ctx, in_a, in_b, ra.depth, rb.depth, ra.ds, rb.ds, ra.active, rb.active,
                           hit_a, hit_b);

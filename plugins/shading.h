@@ -257,6 +257,12 @@ RELIEF_LANE_FLATTEN void shade_lanes(const ShadeContext& ctx, const FragmentPack
   static_assert(kPacketLanes % kLanes == 0);
   const int lanes = in.num_quads * kQuadLanes;
   WorkLanes<FN> work;
+  // a group's output: the material's alpha mode, the store, the work counts
+  const auto emit = [&](const ShadeOut<FN>& shaded, int lane0) {
+    const ShadeOut<FN> o = resolve_alpha(*ctx.material, shaded);
+    store_out(o, in, lane0, out);
+    work.add(o, counted_lanes<FN>(in, lane0));
+  };
   int l = 0;
   if constexpr (paired_kernel<Kernel>()) {
     // two groups at a time (Kernel::shade_pair), the last one alone when their count is odd
@@ -264,20 +270,11 @@ RELIEF_LANE_FLATTEN void shade_lanes(const ShadeContext& ctx, const FragmentPack
       const FragIn<FN> fa = load_fragment<FN>(in, l), fb = load_fragment<FN>(in, l + kLanes);
       ShadeOut<FN> oa, ob;
       Kernel::template shade_pair<FN>(ctx, fa, fb, oa, ob);
-      oa = resolve_alpha(*ctx.material, oa);
-      ob = resolve_alpha(*ctx.material, ob);
-      store_out(oa, in, l, out);
-      store_out(ob, in, l + kLanes, out);
-      work.add(oa, counted_lanes<FN>(in, l));
-      work.add(ob, counted_lanes<FN>(in, l + kLanes));
+      emit(oa, l);
+      emit(ob, l + kLanes);
     }
   }
-  for (; l < lanes; l += kLanes) {
-    const FragIn<FN> f = load_fragment<FN>(in, l);
-    const ShadeOut<FN> o = resolve_alpha(*ctx.material, Kernel::template shade<FN>(ctx, f));
-    store_out(o, in, l, out);
-    work.add(o, counted_lanes<FN>(in, l));
-  }
+  for (; l < lanes; l += kLanes) emit(Kernel::template shade<FN>(ctx, load_fragment<FN>(in, l)), l);
   work.flush(wc);
 }
 }  // namespace detail
