@@ -108,18 +108,6 @@ inline bool make_cone_source(const ShadeContext& ctx, const TextureDepth& depth,
   return true;
 }
 
-// Self-shadow: the light ray searched by `search(entry, dir, t_max, active)` (the plugin's own
-// search with its shadow step count), counted into `o`.
-template <class F, class Search>
-inline F cone_light_visibility(const SearchHit<F>& hit, const V2<F>& dl, const F& lz, mask_t<F> lit,
-                               ShadeOut<F>& o, Search&& search) {
-  const ConeShadow<F> s = light_ray_shadow(hit.uv, hit.depth, dl, lz, kConeShadowBias, lit,
-                                           std::forward<Search>(search));
-  o.shadow_steps += s.steps;
-  o.fetches += s.fetches;
-  return s.visibility;
-}
-
 // Indices of the cone plugins' parameters in their schemas.
 struct ConeParamIndex {
   int steps, binary_steps, depth_scale, shadow_steps, fallback_steps;
@@ -180,24 +168,62 @@ struct ConeFamilySearch {
                      static_cast<int>(p[kIndex.steps]), static_cast<int>(p[kIndex.fallback_steps]),
                      static_cast<int>(p[kIndex.binary_steps]), hit_a, hit_b);
   }
+  // The light ray of a self-shadow query (light_ray, kConeShadowBias). It starts at the surface
+  // above the hit (the hit lies at or under it by up to its last bracket over 2^binary_steps), so
+  // the bias needs to cover no search error; that read is counted into `o`.
+  template <class F>
+  static LightRay<F> shadow_ray(const ShadowQuery<F>& q, ShadeOut<F>& o) {
+    const F t = vmin(q.hit.depth, sample_depth(q.depth, q.hit.uv, q.lit));
+    o.fetches += detail::count<F>(q.lit);
+    return light_ray(q.hit.uv, t, q.dl, q.lz, kConeShadowBias, q.lit);
+  }
+  // The visibility of a light ray whose occluder search found h, its work counted into `o`.
+  template <class F>
+  static F shadow_result(const LightRay<F>& ray, const SearchHit<F>& h, ShadeOut<F>& o) {
+    const ConeShadow<F> s = light_ray_result(ray, h);
+    o.shadow_steps += s.steps;
+    o.fetches += s.fetches;
+    return s.visibility;
+  }
+  // Self-shadow: the light ray searched by the plugin's own occluder search
+  // (cone_occluder_search, shadow_steps cone steps and fallback_steps), light_ray_shadow's test.
   template <class F>
   static F shadow(const ShadeContext& ctx, const TextureDepth& depth, const SearchHit<F>& hit,
                   const V2<F>& dl, const F& lz, mask_t<F> lit, ShadeOut<F>& o) {
     Cone cone;
     if (!make_cone_source(ctx, depth, cone)) return F(1.0f);
     const float* p = ctx.material->params;
-    const int n = static_cast<int>(p[kIndex.shadow_steps]);
-    const int k = static_cast<int>(p[kIndex.fallback_steps]);
-    // the light ray starts at the surface above the hit (the hit lies at or under it by up to
-    // its last bracket over 2^binary_steps), so the bias needs to cover no search error
-    SearchHit<F> at_surface = hit;
-    at_surface.depth = vmin(hit.depth, sample_depth(depth, hit.uv, lit));
-    o.fetches += detail::count<F>(lit);
-    return cone_light_visibility(
-        at_surface, dl, lz, lit, o, [&](V2<F> uv, V2<F> dir, F t_max, mask_t<F> a) {
-          aim(cone, dir);
-          return cone_occluder_search(depth, cone, uv, dir, n, k, a, t_max);
-        });
+    const LightRay<F> ray = shadow_ray<F>({depth, hit, dl, lz, lit}, o);
+    if (none(ray.trace)) return ray.vis;
+    aim(cone, ray.down);
+    return shadow_result(
+        ray,
+        cone_occluder_search(depth, cone, ray.entry, ray.down,
+                             static_cast<int>(p[kIndex.shadow_steps]),
+                             static_cast<int>(p[kIndex.fallback_steps]), ray.trace, ray.t_max),
+        o);
+  }
+  // shadow() of two groups, their light rays searched side by side
+  // (cone_occluder_search_pair).
+  static constexpr bool kPairedShadow = true;
+  template <class F>
+  static void shadow_pair(const ShadeContext& ctx, const ShadowQuery<F>& a, const ShadowQuery<F>& b,
+                          ShadeOut<F>& oa, ShadeOut<F>& ob, F& vis_a, F& vis_b) {
+    Cone cone_a, cone_b;
+    if (!make_cone_source(ctx, a.depth, cone_a) || !make_cone_source(ctx, b.depth, cone_b)) {
+      vis_a = vis_b = F(1.0f);
+      return;
+    }
+    const float* p = ctx.material->params;
+    const LightRay<F> ray_a = shadow_ray(a, oa), ray_b = shadow_ray(b, ob);
+    aim(cone_a, ray_a.down);
+    aim(cone_b, ray_b.down);
+    SearchHit<F> hit_a, hit_b;
+    cone_occluder_search_pair(a.depth, cone_a, ray_a, b.depth, cone_b, ray_b,
+                              static_cast<int>(p[kIndex.shadow_steps]),
+                              static_cast<int>(p[kIndex.fallback_steps]), hit_a, hit_b);
+    vis_a = shadow_result(ray_a, hit_a, oa);
+    vis_b = shadow_result(ray_b, hit_b, ob);
   }
 };
 

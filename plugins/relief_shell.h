@@ -258,15 +258,15 @@ F shell_height_ao(const MaterialUniforms& m, const FragIn<F>& in, const TextureD
 }
 
 // The colour of the surface point `pos` (shading normal n, unit eye-to-point direction w, uv in
-// varying space) through finish_surface and shade_direct: each light's visibility is
-// ray_visibility(l, lit) and then, with kReceive, the light's shadow map at pos where that left the
-// point lit. Fetches and shadow steps are added to `o`.
+// varying space) through finish_surface and shade_direct: light i's visibility is
+// ray_visibility(i, l, lit) and then, with kReceive, the light's shadow map at pos where that left
+// the point lit. Fetches and shadow steps are added to `o`.
 template <bool kReceive, class F, class RayVisibility>
 V3<F> shade_point(const ShadeContext& ctx, const FragIn<F>& in, const V2<F>& uv, const V3<F>& pos,
                   const V3<F>& n, const V3<F>& w, SurfaceColor<F>& sc, mask_t<F> active,
                   ShadeOut<F>& o, RayVisibility&& ray_visibility) {
   auto visibility = [&](int i, V3<F> l, mask_t<F> lit) -> F {
-    F vis = ray_visibility(l, lit);
+    F vis = ray_visibility(i, l, lit);
     if constexpr (kReceive) {
       if (const ShadowMapView* sm = ctx.frame->lights[i].shadow)
         vis =
@@ -278,6 +278,17 @@ V3<F> shade_point(const ShadeContext& ctx, const FragIn<F>& in, const V2<F>& uv,
     return shade_direct(*ctx.frame, *ctx.material, pos, n, -w, sc, visibility);
   });
 }
+
+// A self-shadow ray of Search::shadow_pair: Search::shadow's arguments but the context and the
+// output.
+template <class F>
+struct ShadowQuery {
+  const TextureDepth& depth;
+  const SearchHit<F>& hit;
+  V2<F> dl;
+  F lz;
+  mask_t<F> lit;
+};
 
 template <class Search, EffectMask kEffects>
 struct ReliefKernel {
@@ -317,71 +328,183 @@ struct ReliefKernel {
     return Search::search(ctx, in, r.depth, r.view.V, r.ds, r.active);
   }
 
+  // The hit recorded in `o` (uv, depth, counters; the corrected depth when the variant writes
+  // one); returns its world point.
+  template <class F>
+  static V3<F> record(const ShadeContext& ctx, const FragIn<F>& in, const Ray<F>& r,
+                      const SearchHit<F>& hit, ShadeOut<F>& o) {
+    const V3<F> pos = record_hit(in, r.view, r.depth_scale, hit, o);
+    if constexpr (kDepth) o.depth = corrected_depth(ctx, in, pos);
+    return pos;
+  }
+
+  // The surface at the hit before it is lit: its world point, shading normal and colour.
+  template <class F>
+  struct Surface {
+    V3<F> pos, n;
+    SurfaceColor<F> sc;
+  };
+  template <class F>
+  static Surface<F> surface(const ShadeContext& ctx, const FragIn<F>& in, const Ray<F>& r,
+                            const SearchHit<F>& hit, ShadeOut<F>& o) {
+    const MaterialUniforms& m = *ctx.material;
+    const V3<F> pos = record(ctx, in, r, hit, o);
+    const V3<F> n = sample_normal_map(m, kNormalSlot, r.view.tf, hit.uv, in, F(1.0f), o.fetches);
+    SurfaceColor<F> sc = sample_surface(m, kBaseColorSlot, hit.uv, in, o.fetches, &o.alpha);
+    if (m.height_ao.rays > 0 && r.depth.texture)  // kEffectHeightAo: uniform, no work when off
+      sc.occlusion = sc.occlusion * shell_height_ao<Search>(m, in, r.depth, hit, r.active, o);
+    if constexpr (kShadow && requires { Search::self_occlusion(ctx, hit); })
+      sc.occlusion = sc.occlusion * Search::self_occlusion(ctx, hit);
+    return {pos, n, sc};
+  }
+
+  // The self-shadow ray of the hit towards world direction l (a light's, from light_toward) on
+  // the lit lanes: its texture-space step and tangent-space z.
+  template <class F>
+  struct LightRayOf {
+    V2<F> dl;
+    F lz;
+  };
+  template <class F>
+  static LightRayOf<F> light_ray_of(const Ray<F>& r, const V3<F>& l) {
+    const V3<F> lt = r.view.tf.to_tangent(l);
+    return {light_step(lt, r.depth_scale), lt.z};
+  }
+
+  // Each light's self-shadow visibility at the hit, traced before the lighting: vis[i] for light
+  // i, on the lanes light_toward says it reaches (what sum_lights hands the visibility); 1 where no
+  // lane faces it, and for every light without self-shadow or a depth map.
+  template <class F>
+  static void self_shadows(const ShadeContext& ctx, const Ray<F>& r, const SearchHit<F>& hit,
+                           const Surface<F>& s, ShadeOut<F>& o, F* vis) {
+    const FrameUniforms& frame = *ctx.frame;
+    for (int i = 0; i < frame.num_lights; ++i) vis[i] = F(1.0f);
+    if constexpr (kShadow) {
+      if (!r.depth.texture) return;
+      for (int i = 0; i < frame.num_lights; ++i) {
+        const LightToward<F> lt = light_toward(frame.lights[i], s.pos, s.n);
+        if (none(lt.lit)) continue;
+        const LightRayOf<F> lr = light_ray_of(r, lt.ls.l);
+        vis[i] = Search::shadow(ctx, r.depth, hit, lr.dl, lr.lz, r.active & lt.lit, o);
+      }
+    }
+  }
+
+  // The lit colour of surface s, light i's self-shadow visibility vis[i] (self_shadows).
+  template <class F>
+  static void light(const ShadeContext& ctx, const FragIn<F>& in, const Ray<F>& r,
+                    const SearchHit<F>& hit, const Surface<F>& s, const F* vis, ShadeOut<F>& o) {
+    SurfaceColor<F> sc = s.sc;
+    o.color = shade_point<kReceive>(ctx, in, hit.uv, s.pos, s.n, r.view.w, sc, r.active, o,
+                                    [&](int i, const V3<F>&, mask_t<F>) { return vis[i]; });
+    o.shading_normal = s.n;
+  }
+
   // Everything after the search: the corrected depth, and outside the shadow pass the surface
-  // shaded at the hit.
+  // shaded at the hit (each light's self-shadow ray, then the lighting with the shadow maps).
   template <class F>
   static ShadeOut<F> finish(const ShadeContext& ctx, const FragIn<F>& in, const Ray<F>& r,
                             const SearchHit<F>& hit) {
-    const MaterialUniforms& m = *ctx.material;
     ShadeOut<F> o;
-    const ShellView<F>& view = r.view;
-    const TangentFrame<F>& tf = view.tf;
-    const V3<F>& w = view.w;
-    const F& depth_scale = r.depth_scale;
-    const mask_t<F> active = r.active;
-    const TextureDepth& depth = r.depth;
-    const V3<F> pos = record_hit(in, view, depth_scale, hit, o);
-    if constexpr (kDepth) o.depth = corrected_depth(ctx, in, pos);
     if constexpr (kShadowPass) {
+      record(ctx, in, r, hit, o);
       // MASK casters cut their shadow where the base colour at the hit is below the cutoff
-      if (m.alpha_mode == AlphaMode::kMask)
-        o.alpha = sample_alpha(m, kBaseColorSlot, hit.uv, in, o.fetches);
+      if (ctx.material->alpha_mode == AlphaMode::kMask)
+        o.alpha = sample_alpha(*ctx.material, kBaseColorSlot, hit.uv, in, o.fetches);
       return o;
     } else {
-      const V3<F> n = sample_normal_map(m, kNormalSlot, tf, hit.uv, in, F(1.0f), o.fetches);
-      SurfaceColor<F> sc = sample_surface(m, kBaseColorSlot, hit.uv, in, o.fetches, &o.alpha);
-      if (m.height_ao.rays > 0 && depth.texture)  // kEffectHeightAo: uniform, no work when off
-        sc.occlusion = sc.occlusion * shell_height_ao<Search>(m, in, depth, hit, active, o);
-      if constexpr (kShadow && requires { Search::self_occlusion(ctx, hit); })
-        sc.occlusion = sc.occlusion * Search::self_occlusion(ctx, hit);
-      // lighting at the displaced point: self-shadow ray, then the light's shadow map (lit lanes)
-      auto ray_visibility = [&](const V3<F>& l, mask_t<F> lit) -> F {
-        F vis(1.0f);
-        if constexpr (kShadow) {
-          if (depth.texture) {
-            const V3<F> lt = tf.to_tangent(l);
-            vis =
-                Search::shadow(ctx, depth, hit, light_step(lt, depth_scale), lt.z, active & lit, o);
-          }
-        }
-        return vis;
-      };
-      o.color = shade_point<kReceive>(ctx, in, hit.uv, pos, n, w, sc, active, o, ray_visibility);
-      o.shading_normal = n;
+      const Surface<F> s = surface(ctx, in, r, hit, o);
+      F vis[kMaxLights];
+      self_shadows(ctx, r, hit, s, o, vis);
+      light(ctx, in, r, hit, s, vis, o);
       return o;
     }
   }
 
   // Two groups of lanes at once where the technique searches two side by side
   // (Search::search_pair; shade_lanes in plugins/shading.h walks a packet two groups at a time):
-  // the same outputs as shade() of each.
+  // the same outputs as shade() of each. With Search::shadow_pair the two groups' self-shadow
+  // rays of each light are traced side by side too.
   static constexpr bool kPaired = requires { Search::kPairedSearch; };
+  static constexpr bool kPairedShadow = kShadow && requires { Search::kPairedShadow; };
 
-  // finish() compiled once for the three calls of a paired kernel's lane loop (both groups of a
-  // pair, and a packet's odd last group), not inlined into each: the lighting is most of a
-  // kernel's code, and three copies of it doubled the plugin's compile time.
+  // A paired kernel's lane loop (both groups of a pair, and a packet's odd last group) calls the
+  // surface and the lighting out of line, each compiled once: the lighting is most of a kernel's
+  // code, and a copy of it inlined at each call doubled the plugin's compile time.
+  template <class F>
+  RELIEF_LANE_FLATTEN __attribute__((noinline)) static Surface<F> surface_out_of_line(
+      const ShadeContext& ctx, const FragIn<F>& in, const Ray<F>& r, const SearchHit<F>& hit,
+      ShadeOut<F>& o) {
+    return surface(ctx, in, r, hit, o);
+  }
+  template <class F>
+  RELIEF_LANE_FLATTEN __attribute__((noinline)) static void light_out_of_line(
+      const ShadeContext& ctx, const FragIn<F>& in, const Ray<F>& r, const SearchHit<F>& hit,
+      const Surface<F>& s, const F* vis, ShadeOut<F>& o) {
+    light(ctx, in, r, hit, s, vis, o);
+  }
   template <class F>
   RELIEF_LANE_FLATTEN __attribute__((noinline)) static ShadeOut<F> finish_out_of_line(
       const ShadeContext& ctx, const FragIn<F>& in, const Ray<F>& r, const SearchHit<F>& hit) {
     return finish(ctx, in, r, hit);
   }
+  // finish(), from the out-of-line parts in a paired kernel's lane loop.
   template <class F>
   static ShadeOut<F> finish_once(const ShadeContext& ctx, const FragIn<F>& in, const Ray<F>& r,
                                  const SearchHit<F>& hit) {
-    if constexpr (kPaired && is_lanes_v<F>)
+    if constexpr (kPaired && is_lanes_v<F> && !kShadowPass) {
+      ShadeOut<F> o;
+      const Surface<F> s = surface_out_of_line(ctx, in, r, hit, o);
+      F vis[kMaxLights];
+      self_shadows(ctx, r, hit, s, o, vis);
+      light_out_of_line(ctx, in, r, hit, s, vis, o);
+      return o;
+    } else if constexpr (kPaired && is_lanes_v<F>) {
       return finish_out_of_line(ctx, in, r, hit);
-    else
+    } else {
       return finish(ctx, in, r, hit);
+    }
+  }
+
+  // self_shadows() of two groups, each light's rays traced side by side (Search::shadow_pair; a
+  // group no lane of which faces the light traces nothing and counts nothing there).
+  template <class F>
+  static void self_shadows_pair(const ShadeContext& ctx, const Ray<F>& ra, const Ray<F>& rb,
+                                const SearchHit<F>& hit_a, const SearchHit<F>& hit_b,
+                                const Surface<F>& sa, const Surface<F>& sb, ShadeOut<F>& oa,
+                                ShadeOut<F>& ob, F* vis_a, F* vis_b) {
+    const FrameUniforms& frame = *ctx.frame;
+    for (int i = 0; i < frame.num_lights; ++i) vis_a[i] = vis_b[i] = F(1.0f);
+    if (!ra.depth.texture) return;
+    for (int i = 0; i < frame.num_lights; ++i) {
+      const LightToward<F> ta = light_toward(frame.lights[i], sa.pos, sa.n);
+      const LightToward<F> tb = light_toward(frame.lights[i], sb.pos, sb.n);
+      if (none(ta.lit) && none(tb.lit)) continue;
+      const LightRayOf<F> la = light_ray_of(ra, ta.ls.l), lb = light_ray_of(rb, tb.ls.l);
+      Search::shadow_pair(ctx, {ra.depth, hit_a, la.dl, la.lz, ra.active & ta.lit},
+                          {rb.depth, hit_b, lb.dl, lb.lz, rb.active & tb.lit}, oa, ob, vis_a[i],
+                          vis_b[i]);
+    }
+  }
+
+  template <class F>
+  static void finish_pair(const ShadeContext& ctx, const FragIn<F>& in_a, const FragIn<F>& in_b,
+                          const Ray<F>& ra, const Ray<F>& rb, const SearchHit<F>& hit_a,
+                          const SearchHit<F>& hit_b, ShadeOut<F>& out_a, ShadeOut<F>& out_b) {
+    if constexpr (kPairedShadow && !kShadowPass) {
+      ShadeOut<F> oa, ob;
+      const Surface<F> sa = surface_out_of_line(ctx, in_a, ra, hit_a, oa);
+      const Surface<F> sb = surface_out_of_line(ctx, in_b, rb, hit_b, ob);
+      F vis_a[kMaxLights], vis_b[kMaxLights];
+      self_shadows_pair(ctx, ra, rb, hit_a, hit_b, sa, sb, oa, ob, vis_a, vis_b);
+      light_out_of_line(ctx, in_a, ra, hit_a, sa, vis_a, oa);
+      light_out_of_line(ctx, in_b, rb, hit_b, sb, vis_b, ob);
+      out_a = oa;
+      out_b = ob;
+    } else {
+      out_a = finish_once(ctx, in_a, ra, hit_a);
+      out_b = finish_once(ctx, in_b, rb, hit_b);
+    }
   }
 
   template <class F>
@@ -398,8 +521,7 @@ struct ReliefKernel {
     if (ra.depth.texture)
       Search::search_pair(ctx, in_a, in_b, ra.depth, rb.depth, ra.ds, rb.ds, ra.active, rb.active,
                           hit_a, hit_b);
-    out_a = finish_once(ctx, in_a, ra, hit_a);
-    out_b = finish_once(ctx, in_b, rb, hit_b);
+    finish_pair(ctx, in_a, in_b, ra, rb, hit_a, hit_b, out_a, out_b);
   }
 };
 

@@ -94,7 +94,7 @@ struct ShellsKernel {
       // a light below the tangent plane is blocked, as steep parallax's shadow=depth has it
       o.color = shade_point<(kEffects & kEffectReceiveShadow) != 0>(
           ctx, in, in.uv, in.position, n, view.w, sc, covered_lanes(in), o,
-          [&](const V3<F>& l, mask_t<F>) {
+          [&](int, const V3<F>& l, mask_t<F>) {
             if constexpr (kSelfShadow) return select(dot(view.tf.n, l) > F(0.0f), light, F(0.0f));
             return light;
           });

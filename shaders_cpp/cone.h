@@ -437,13 +437,20 @@ inline void cone_search_pair(const ConeRay<F, Depth, Cone>& a, const ConeRay<F, 
 // least a k-th of what is left), no halvings; the hit's depth is below t_max exactly on the lanes
 // where a sample was inside.
 template <class F, class Depth, class Cone>
+inline SearchHit<F> occluder_hit(const ConeFallback<F, Depth, Cone>& fb, mask_t<F> active) {
+  const ConeHit<F> h = cone_hit(fb, active);
+  SearchHit<F> hit = h.hit;
+  hit.depth = select(h.found, hit.depth, fb.t_max);
+  return hit;
+}
+template <class F, class Depth, class Cone>
 inline SearchHit<F> cone_occluder_search(const Depth& depth, const Cone& cone, V2<F> uv, V2<F> ds,
                                          int n, int k, mask_t<F> active, F t_max) {
   const ConeMarch<F> mr = cone_march_state(depth, cone, uv, ds, n, t_max, active);
-  const ConeHit<F> h = cone_finish(depth, cone, uv, ds, mr, k, 0, t_max, false, F(0.0f), active);
-  SearchHit<F> hit = h.hit;
-  hit.depth = select(h.found, hit.depth, t_max);
-  return hit;
+  ConeFallback<F, Depth, Cone> fb(depth, cone, uv, ds, mr, k, t_max, false, F(0.0f), active);
+  while (fb.more()) fb.step();
+  cone_close(fb, active);
+  return occluder_hit(fb, active);
 }
 
 template <class F>
@@ -452,6 +459,33 @@ struct ConeShadow {
   F steps;       // iterations of the light ray's search, per lane
   F fetches;     // texture samples, per lane
 };
+
+// The light ray of light_ray_shadow before its search: it enters the depth range at `entry`,
+// runs along `down` to depth t_max on the `trace` lanes; `vis` is the visibility of the lanes
+// that trace nothing.
+template <class F>
+struct LightRay {
+  V2<F> entry, down;
+  F t_max;
+  mask_t<F> trace;
+  F vis;
+};
+template <class F>
+inline LightRay<F> light_ray(V2<F> uv, F t, V2<F> dl, F lz, float bias, mask_t<F> active) {
+  const mask_t<F> lit_side = lz > F(0.0f);
+  const F t_max = t - F(bias);
+  const mask_t<F> trace = active & lit_side & (t_max > F(0.0f));
+  return {uv + dl * t_max,
+          {F(0.0f) - dl.x, F(0.0f) - dl.y},
+          t_max,
+          trace,
+          select(active & !lit_side, F(0.0f), F(1.0f))};
+}
+// The shadow of a light ray whose occluder search found h.
+template <class F>
+inline ConeShadow<F> light_ray_result(const LightRay<F>& r, const SearchHit<F>& h) {
+  return {select(r.trace & (h.depth < r.t_max), F(0.0f), r.vis), h.steps, h.fetches};
+}
 
 // Hard self-shadow with the view ray's own search (Policarpo et al. 2005, figure 10: does the
 // light ray reach the shaded point before any other surface point?), with the exact reference's
@@ -465,19 +499,30 @@ struct ConeShadow {
 template <class F, class Search>
 inline ConeShadow<F> light_ray_shadow(V2<F> uv, F t, V2<F> dl, F lz, float bias, mask_t<F> active,
                                       Search&& search) {
-  const mask_t<F> lit_side = lz > F(0.0f);
-  const F t_max = t - F(bias);
-  const mask_t<F> trace = active & lit_side & (t_max > F(0.0f));
-  F vis = select(active & !lit_side, F(0.0f), F(1.0f));
-  ConeShadow<F> r{vis, F(0.0f), F(0.0f)};
-  if (none(trace)) return r;
-  const V2<F> entry = uv + dl * t_max;
-  const V2<F> down{F(0.0f) - dl.x, F(0.0f) - dl.y};
-  const SearchHit<F> h = search(entry, down, t_max, trace);
-  r.visibility = select(trace & (h.depth < t_max), F(0.0f), vis);
-  r.steps = h.steps;
-  r.fetches = h.fetches;
-  return r;
+  const LightRay<F> r = light_ray(uv, t, dl, lz, bias, active);
+  if (none(r.trace)) return {r.vis, F(0.0f), F(0.0f)};
+  return light_ray_result(r, search(r.entry, r.down, r.t_max, r.trace));
+}
+
+// The occluder searches of two packets' light rays (cone_occluder_search of each, cones aimed),
+// their marches and fallback steps run side by side (step_both): the same hits as one at a time.
+template <class F, class Depth, class Cone>
+inline void cone_occluder_search_pair(const Depth& depth_a, const Cone& cone_a,
+                                      const LightRay<F>& a, const Depth& depth_b,
+                                      const Cone& cone_b, const LightRay<F>& b, int n, int k,
+                                      SearchHit<F>& hit_a, SearchHit<F>& hit_b) {
+  using Marcher = ConeMarcher<F, Depth, Cone>;
+  Marcher march_a(depth_a, cone_a, a.entry, a.down, n, a.t_max, a.trace);
+  Marcher march_b(depth_b, cone_b, b.entry, b.down, n, b.t_max, b.trace);
+  step_both(march_a, march_b);
+  using Fallback = ConeFallback<F, Depth, Cone>;
+  Fallback fall_a(depth_a, cone_a, a.entry, a.down, march_a.m, k, a.t_max, false, F(0.0f), a.trace);
+  Fallback fall_b(depth_b, cone_b, b.entry, b.down, march_b.m, k, b.t_max, false, F(0.0f), b.trace);
+  step_both(fall_a, fall_b);
+  cone_close(fall_a, a.trace);
+  cone_close(fall_b, b.trace);
+  hit_a = occluder_hit(fall_a, a.trace);
+  hit_b = occluder_hit(fall_b, b.trace);
 }
 
 }  // namespace HWY_NAMESPACE

@@ -80,6 +80,22 @@ inline F vpow(F x, float e) {
   return vpow_fast(x, e);
 }
 
+// A light as seen from point p with unit normal n: its sample, n.l and the lanes it reaches
+// (n.l > 0). sum_lights' view of each light; a kernel that traces each light's self-shadow ray
+// before lighting (plugins/relief_shell.h) computes the same with it.
+template <class F>
+struct LightToward {
+  LightSample<F> ls;
+  F ndotl;
+  mask_t<F> lit;
+};
+template <class F>
+inline LightToward<F> light_toward(const LightUniform& light, V3<F> p, V3<F> n) {
+  const LightSample<F> ls = light_sample<F>(light, p);
+  const F ndotl = dot(n, ls.l);
+  return {ls, ndotl, ndotl > F(0.0f)};
+}
+
 // The indirect term `indirect` plus, for each light, its radiance x brdf_cos(l, n.l) x
 // visibility(i, l, lit) on the lanes the light reaches (n.l > 0); a light no lane faces is
 // skipped, visibility included.
@@ -88,13 +104,11 @@ inline V3<F> sum_lights(const FrameUniforms& frame, V3<F> p, V3<F> n, V3<F> indi
                         Visibility&& visibility, BrdfCos&& brdf_cos) {
   V3<F> c = indirect;
   for (int i = 0; i < frame.num_lights; ++i) {
-    const LightSample<F> ls = light_sample<F>(frame.lights[i], p);
-    const F ndotl = dot(n, ls.l);
-    const mask_t<F> lit = ndotl > F(0.0f);
-    if (none(lit)) continue;
-    const F vis = visibility(i, ls.l, lit);
-    const V3<F> contrib = brdf_cos(ls.l, vmax(ndotl, F(0.0f))) * vis;
-    c += select(lit, ls.radiance * contrib, V3<F>(F(0.0f), F(0.0f), F(0.0f)));
+    const LightToward<F> lt = light_toward(frame.lights[i], p, n);
+    if (none(lt.lit)) continue;
+    const F vis = visibility(i, lt.ls.l, lt.lit);
+    const V3<F> contrib = brdf_cos(lt.ls.l, vmax(lt.ndotl, F(0.0f))) * vis;
+    c += select(lt.lit, lt.ls.radiance * contrib, V3<F>(F(0.0f), F(0.0f), F(0.0f)));
   }
   return c;
 }

@@ -192,6 +192,65 @@ TEST(Cone, PairedSearchGivesEachPacketItsOwnSearch) {
   }
 }
 
+// The light rays of two packets searched side by side (cone_occluder_search_pair, the self-shadow
+// of a paired kernel) give each packet what it gets alone, counters included: rays entering at
+// every depth, lanes facing away from the light (no trace), lanes whose ray starts above the bias
+// (t_max <= 0), a lane off and a whole packet tracing nothing.
+TEST(Cone, PairedLightRaysGiveEachPacketItsOwnSearch) {
+  for (const ConeField& c : fields()) {
+    const std::vector<testing::RandomRay> rs = rays(8 * 24, 23);
+    const TextureCone rel = c.cone(c.relaxed), cons = c.cone(c.cons);
+    int shadowed = 0, reached = 0;  // traced lanes, so that both outcomes are compared
+    for (size_t k = 0; k + 16 <= rs.size(); k += 16) {
+      LightRay<F8> ray[2];
+      for (int p = 0; p < 2; ++p) {
+        V2<F8> uv, dl;
+        F8 t, lz;
+        for (int i = 0; i < 8; ++i) {
+          const int j = static_cast<int>(k) + 8 * p + i;
+          const testing::RandomRay& r = rs[j];
+          set_lane(uv.x, i, r.u);
+          set_lane(uv.y, i, r.v);
+          set_lane(dl.x, i, r.dsx);
+          set_lane(dl.y, i, r.dsy);
+          set_lane(t, i, static_cast<float>(j % 17) / 16.0f);  // 0 (nothing to trace) to 1
+          set_lane(lz, i, j % 7 == 3 ? -0.2f : 0.6f);          // every 7th faces away
+        }
+        M8 active = true_mask<F8>();
+        set_lane(active, (k / 16) % 8, false);
+        if (p == 1 && k / 16 == 4) active = false_mask<F8>();
+        ray[p] = light_ray(uv, t, dl, lz, 0.01f, active);
+      }
+      for (const TextureCone* cone : {&rel, &cons}) {
+        SearchHit<F8> a, b;
+        cone_occluder_search_pair(c.f, *cone, ray[0], c.f, *cone, ray[1], 15, 8, a, b);
+        const SearchHit<F8> one[2] = {cone_occluder_search(c.f, *cone, ray[0].entry, ray[0].down,
+                                                           15, 8, ray[0].trace, ray[0].t_max),
+                                      cone_occluder_search(c.f, *cone, ray[1].entry, ray[1].down,
+                                                           15, 8, ray[1].trace, ray[1].t_max)};
+        const SearchHit<F8>* got[2] = {&a, &b};
+        for (int p = 0; p < 2; ++p) {
+          const ConeShadow<F8> g = light_ray_result(ray[p], *got[p]);
+          const ConeShadow<F8> w = light_ray_result(ray[p], one[p]);
+          for (int i = 0; i < 8; ++i) {
+            SCOPED_TRACE(c.name + " rays " + std::to_string(k) + " packet " + std::to_string(p) +
+                         " lane " + std::to_string(i));
+            EXPECT_EQ(bits_of(lane(got[p]->uv.x, i)), bits_of(lane(one[p].uv.x, i)));
+            EXPECT_EQ(bits_of(lane(got[p]->uv.y, i)), bits_of(lane(one[p].uv.y, i)));
+            EXPECT_EQ(bits_of(lane(got[p]->depth, i)), bits_of(lane(one[p].depth, i)));
+            EXPECT_EQ(lane(g.visibility, i), lane(w.visibility, i));
+            EXPECT_EQ(lane(g.steps, i), lane(w.steps, i));
+            EXPECT_EQ(lane(g.fetches, i), lane(w.fetches, i));
+            if (lane(ray[p].trace, i)) ++(lane(w.visibility, i) == 0.0f ? shadowed : reached);
+          }
+        }
+      }
+    }
+    EXPECT_GT(shadowed, 0) << c.name;
+    EXPECT_GT(reached, 0) << c.name;
+  }
+}
+
 TEST(Cone, InactiveLanesDoNothing) {
   const ConeField& c = fields()[0];
   M8 active = true_mask<F8>();
