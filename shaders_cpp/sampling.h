@@ -128,9 +128,9 @@ inline F texel_coord(F u, F size, F offset) {
   return vmin(vmax(x, F(-67108864.0f)), F(67108864.0f));
 }
 
-// lut[idx] (idx in [0, 256)): a gather where the target has one.
+// base[idx] per lane (the sRGB table, shadow-map depths): a gather where the target has one.
 template <class F>
-[[gnu::always_inline]] inline F table_lookup(const float* lut, const int_t<F>& idx) {
+[[gnu::always_inline]] inline F gather_f32(const float* lut, const int_t<F>& idx) {
 #if HWY_ARCH_X86 && HWY_TARGET <= HWY_AVX2
   if constexpr (kHwyLanes<F>) return from_hwy(hn::GatherIndex(DF(), lut, to_hwy(idx)));
 #endif
@@ -255,7 +255,7 @@ inline F decode8(int_t<F> word, int c, const float* lut, bool srgb) {
   if (c >= kChannels) return F(c == 3 ? 1.0f : 0.0f);
   const I byte = (word >> (8 * c)) & I(0xff);
   if (!srgb || c == 3) return unorm8_decode(to_float(byte));  // == unorm8_table (tested)
-  return table_lookup<F>(lut, byte);
+  return gather_f32<F>(lut, byte);
 }
 
 // IEEE half (the low 16 bits of each lane of h) to float, texture.cpp's half_to_float over lanes:

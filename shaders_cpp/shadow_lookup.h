@@ -179,6 +179,7 @@ inline float shadow_lookup(const ShadowMapView& m, glm::vec3 p, glm::vec3 n, glm
 #include <glm/vec3.hpp>
 
 #include "shaders_cpp/lanes.h"
+#include "shaders_cpp/sampling.h"
 #include "shaders_cpp/uniforms.h"
 #include "shaders_cpp/vec.h"
 
@@ -187,12 +188,130 @@ inline float shadow_lookup(const ShadowMapView& m, glm::vec3 p, glm::vec3 n, glm
 HWY_BEFORE_NAMESPACE();
 namespace relief {
 namespace HWY_NAMESPACE {
+namespace detail {
+
+// std::clamp's comparisons over the lanes: v < lo ? lo : (hi < v ? hi : v).
+template <class F>
+inline F std_clamp(const F& v, const F& lo, const F& hi) {
+  return select(v < lo, lo, select(hi < v, hi, v));
+}
+// Row k of glm's mat4 * vec4(x, y, z, w): (m0 x + m1 y) + (m2 z + m3 w), as glm sums it.
+template <class F>
+inline F mat4_row(const glm::mat4& a, int k, const F& x, const F& y, const F& z, const F& w) {
+  return (F(a[0][k]) * x + F(a[1][k]) * y) + (F(a[2][k]) * z + F(a[3][k]) * w);
+}
+// Row k of glm's mat3(a) * vec3(x, y, z), summed left to right.
+template <class F>
+inline F mat3_row(const glm::mat4& a, int k, const F& x, const F& y, const F& z) {
+  return F(a[0][k]) * x + F(a[1][k]) * y + F(a[2][k]) * z;
+}
+
+// shadow_lookup (above) of every lane on face f at once: the same IEEE operations per lane in the
+// same order, so the same bits as one lane at a time; the taps' depths are gathered. Lanes
+// outside `active` get 1 and fetch nothing, as do the lanes shadow_lookup leaves lit before its
+// taps (nearer than the near plane, outside the map).
+template <class F>
+F shadow_lookup_lanes(const ShadowMapView& m, int f, const V3<F>& p, const V3<F>& n, const V3<F>& l,
+                      mask_t<F> active, F& fetches) {
+  using I = int_t<F>;
+  const F one(1.0f), zero(0.0f), half(0.5f);
+  const glm::mat4& v = m.view[f];
+  const F qx = mat4_row(v, 0, p.x, p.y, p.z, one), qy = mat4_row(v, 1, p.x, p.y, p.z, one);
+  const F qz = mat4_row(v, 2, p.x, p.y, p.z, one), qw = mat4_row(v, 3, p.x, p.y, p.z, one);
+  const F dist = -qz;
+  const glm::mat4& pr = m.proj[f];
+  const F cx = mat4_row(pr, 0, qx, qy, qz, qw), cy = mat4_row(pr, 1, qx, qy, qz, qw);
+  const F cw = mat4_row(pr, 3, qx, qy, qz, qw);
+  const F size(static_cast<float>(m.size));
+  const F px = (cx / cw * half + half) * size, py = (half - cy / cw * half) * size;
+  const mask_t<F> in =
+      active & (dist > F(m.znear)) & (px >= zero) & (px <= size) & (py >= zero) & (py <= size);
+  if (none(in)) return one;
+  const F nex = mat3_row(v, 0, n.x, n.y, n.z), ney = mat3_row(v, 1, n.x, n.y, n.z);
+  const F nez = mat3_row(v, 2, n.x, n.y, n.z);
+  const F cos_t = std_clamp(n.x * l.x + n.y * l.y + n.z * l.z, zero, one);
+  const F tan_t = vmin(vsqrt(one - cos_t * cos_t) / vmax(cos_t, F(1e-6f)), F(kMaxShadowSlope));
+  const F texel_w = m.orthographic ? F(m.texel) : F(m.texel) * dist;
+  const F bias = texel_w * (F(m.settings.depth_bias) + F(m.settings.slope_bias) * tan_t);
+  const F plane = nex * qx + ney * qy + nez * qz;
+  const int r = m.settings.pcf_radius;
+  // lanes left lit take texel (0, 0): their taps are read and not used
+  const F bx = select(in, px, half) - half, by = select(in, py, half) - half;
+  const F x0f = vfloor(bx), y0f = vfloor(by);
+  const F fx = bx - x0f, fy = by - y0f;
+  const I x0 = trunc_to_int(x0f), y0 = trunc_to_int(y0f);
+  if (m.tiles) {
+    const int last = m.size - 1;
+    for (int k = 0; k < lane_width<F>; ++k)
+      if (lane(in, k)) {
+        const int x = lane(x0, k), y = lane(y0, k);
+        m.tiles->need(f, std::clamp(x - r, 0, last), std::clamp(y - r, 0, last),
+                      std::clamp(x + r + 1, 0, last), std::clamp(y + r + 1, 0, last));
+      }
+  }
+  // shadow_distance of the gathered depths
+  const float za = m.znear / (m.zfar - m.znear), zb = m.znear * m.zfar / (m.zfar - m.znear);
+  const float zspan = m.zfar - m.znear;
+  const float* depth = m.depth[f];
+  const I last(m.size - 1), row_size(m.size);
+  F lit = zero, total = zero;
+  for (int j = -r; j <= r + 1; ++j) {
+    const F wy = j == -r ? one - fy : (j == r + 1 ? fy : one);
+    const I yj = y0 + I(j);
+    const I row = vmin(vmax(yj, I(0)), last) * row_size;
+    const F ny = one - F(2.0f) * (to_float(yj) + half) / size;
+    for (int i = -r; i <= r + 1; ++i) {
+      const F wx = i == -r ? one - fx : (i == r + 1 ? fx : one);
+      const I xi = x0 + I(i);
+      const I tx = vmin(vmax(xi, I(0)), last);
+      const F nx = F(2.0f) * (to_float(xi) + half) / size - one;
+      F d;
+      if (m.orthographic) {
+        const F ex = (nx - F(pr[3][0])) / F(pr[0][0]), ey = (ny - F(pr[3][1])) / F(pr[1][1]);
+        d = dist + (nex * (ex - qx) + ney * (ey - qy)) / nez;
+      } else {
+        const F ex = nx / F(pr[0][0]), ey = ny / F(pr[1][1]);
+        d = plane / (nex * ex + ney * ey - nez);
+      }
+      const F reach =
+          texel_w * F(kMaxShadowSlope) * F(static_cast<float>(std::abs(i) + std::abs(j) + 1));
+      d = select(d == d, std_clamp(d, dist - reach, dist + reach), dist);
+      const F w = wx * wy;
+      total += w;
+      const F texel = gather_f32<F>(depth, row + tx);
+      const F stored = m.orthographic ? F(m.zfar) - texel * F(zspan) : F(zb) / (texel + F(za));
+      lit = select(d - bias <= stored, lit + w, lit);
+    }
+  }
+  fetches += select(in, F(static_cast<float>((2 * r + 2) * (2 * r + 2))), zero);
+  return select(in, lit / total, one);
+}
+
+}  // namespace detail
+
 // Shadow-map visibility in [0, 1] per lane of the points p (world), unit normals n and unit
 // directions to the light l; lanes outside `active` get 1 and fetch nothing. The taps are added
-// to `fetches` per lane.
+// to `fetches` per lane. Over lanes, the lanes on one face of the map are looked up together
+// (shadow_lookup_lanes); lanes of a cube on several faces, and float, one at a time.
 template <class F>
 inline F shadow_map_visibility(const ShadowMapView& m, const V3<F>& p, const V3<F>& n,
                                const V3<F>& l, mask_t<F> active, F& fetches) {
+  if constexpr (is_lanes_v<F>) {
+    int face = 0;
+    bool one_face = true;
+    if (m.faces == kMaxShadowFaces) {
+      face = -1;
+      for (int k = 0; k < lane_width<F> && one_face; ++k) {
+        if (!lane(active, k)) continue;
+        const int fk = relief::detail::cube_face(
+            glm::vec3(lane(p.x, k), lane(p.y, k), lane(p.z, k)) - m.position);
+        one_face = face < 0 || fk == face;
+        face = fk;
+      }
+    }
+    if (face < 0) return F(1.0f);  // no lane active
+    if (one_face) return detail::shadow_lookup_lanes(m, face, p, n, l, active, fetches);
+  }
   F taps(0.0f);
   const F vis = per_lane(F(0.0f), [&](int i) {
     if (!lane(active, i)) return 1.0f;
