@@ -140,6 +140,7 @@ HWY_AFTER_NAMESPACE();
 #include <gtest/gtest.h>
 
 #include "base/simd.h"
+#include "tests/shaders_cpp/every_level.h"
 
 namespace relief {
 namespace {
@@ -147,19 +148,8 @@ namespace {
 HWY_EXPORT(check_planned_r8);
 HWY_EXPORT(check_quad_cone);
 
-// Calls check(level) at every SIMD level this CPU runs, that level set, then restores the level.
-template <class Check>
-void on_every_level(const Check& check) {
-  const SimdLevel saved = simd_level();
-  for (SimdLevel level : simd_levels_supported()) {
-    set_simd_level(level);
-    check(level);
-  }
-  set_simd_level(saved);
-}
-
 TEST(SamplingTargets, PlannedR8ReadsGiveSampleRLodBitsOnEveryLevel) {
-  on_every_level([](SimdLevel level) {
+  testing::on_every_level([](SimdLevel level) {
     const PlannedCheck c = HWY_DYNAMIC_DISPATCH(check_planned_r8)(11);
     EXPECT_EQ(c.mismatched, 0) << simd_level_name(level) << ": " << c.first_mismatch;
     EXPECT_EQ(c.checked % 4, 0);
@@ -174,7 +164,7 @@ TEST(SamplingTargets, PlannedR8ReadsGiveSampleRLodBitsOnEveryLevel) {
 }
 
 TEST(SamplingTargets, QuadConeReadsGiveSampleLodBitsOnEveryLevel) {
-  on_every_level([](SimdLevel level) {
+  testing::on_every_level([](SimdLevel level) {
     const PlannedCheck c = HWY_DYNAMIC_DISPATCH(check_quad_cone)(17);
     EXPECT_EQ(c.mismatched, 0) << simd_level_name(level) << ": " << c.first_mismatch;
     constexpr long kReads = 4 * 3 * 2 * 16 * 3;  // sizes, wraps, packets, reads

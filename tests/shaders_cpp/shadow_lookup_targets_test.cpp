@@ -20,6 +20,10 @@
 
 #ifndef RELIEF_TESTS_SHADOW_LOOKUP_TARGETS_ONCE
 #define RELIEF_TESTS_SHADOW_LOOKUP_TARGETS_ONCE
+#include <gtest/gtest.h>
+
+#include "tests/shaders_cpp/every_level.h"
+
 namespace relief {
 // What one level's check found (one type for every target's function).
 struct ShadowLookupCheck {
@@ -160,19 +164,12 @@ ShadowLookupCheck check_shadow_lookups(uint32_t seed) {
 HWY_AFTER_NAMESPACE();
 
 #if HWY_ONCE
-#include <gtest/gtest.h>
-
-#include "base/simd.h"
-
 namespace relief {
-namespace {
 
 HWY_EXPORT(check_shadow_lookups);
 
 TEST(ShadowLookupTargets, LanesGiveTheScalarLookupsBitsOnEveryLevel) {
-  const SimdLevel saved = simd_level();
-  for (SimdLevel level : simd_levels_supported()) {
-    set_simd_level(level);
+  testing::on_every_level([](SimdLevel level) {
     const ShadowLookupCheck c = HWY_DYNAMIC_DISPATCH(check_shadow_lookups)(29);
     const std::string name = simd_level_name(level);
     EXPECT_EQ(c.mismatched, 0) << name << ": " << c.first_mismatch;
@@ -182,10 +179,8 @@ TEST(ShadowLookupTargets, LanesGiveTheScalarLookupsBitsOnEveryLevel) {
     EXPECT_GT(c.shadowed, 100) << name;
     EXPECT_GT(c.left_lit, 100) << name;
     EXPECT_GE(c.one_face_packets, 3 * 16) << name;
-  }
-  set_simd_level(saved);
+  });
 }
 
-}  // namespace
 }  // namespace relief
 #endif  // HWY_ONCE
