@@ -44,7 +44,16 @@ RELIEF_LANE_FLATTEN FN planned(const RLodPlan& p, const V2<FN>& uv) {
     return mix(r, r2, FN::load(p.f));  // lerp4's bits: r + (r2 - r) * f
   }
 }
-// Lanes on different levels: the whole sampler per read.
+// Lanes on two neighbouring pairs of levels: all three levels read, each lane's pair blended
+// (a top-level lane's weight is 0, its second level its first repeated).
+template <TexFormat kFmt>
+RELIEF_LANE_FLATTEN FN planned_straddle(const RLodPlan& p, const V2<FN>& uv) {
+  const FN r0 = planned_level<kFmt, false>(p, uv, 0), r1 = planned_level<kFmt, false>(p, uv, 1);
+  const FN r2 = planned_level<kFmt, false>(p, uv, 2);
+  const FN f = FN::load(p.f);
+  return select(FN::load(p.upper) != FN(0.0f), mix(r1, r2, f), mix(r0, r1, f));
+}
+// Lanes on different levels otherwise: the whole sampler per read.
 FN planned_mixed(const RLodPlan& p, const V2<FN>& uv) {
   return texture_r_lod_lanes(*p.texture, p.sampler, uv, FN::load(p.lod));
 }
@@ -81,6 +90,7 @@ void begin_plan(const Texture& t, const SamplerState& s, const float* lod, RLodP
   std::memcpy(p.lod, lod, sizeof(p.lod));
   p.read = &planned_mixed;
   p.shared_levels = false;
+  std::memset(p.upper, 0, sizeof(p.upper));
 }
 
 // quad_cone_lanes' plan: level[0] and pow2 set, and shared_levels, where the lanes can be read
@@ -146,27 +156,61 @@ void prepare_r_lod(const Texture& t, const SamplerState& s, const float* lod, RL
   // Lane by lane in float (the same bits as lod_levels over FN), once per distinct LOD: kernels
   // hold one LOD per quad, so lanes usually repeat their neighbour's.
   detail::LodLevels<float> l = detail::lod_levels(t.levels(), s.filter, lod[0]);
-  const int lo = l.lo, hi = l.hi;
-  bool two = false, one_level = true;
+  const int lo = l.lo, hi = l.hi, top = t.levels() - 1;
+  int lo_min = lo, lo_max = lo;
+  bool two = false, one_level = true, pairs = true;  // pairs: every lane's hi is min(lo + 1, top)
+  int lane_lo[kLanes];
   for (int i = 0; i < kLanes; ++i) {
     if (i > 0 && std::memcmp(&lod[i], &lod[i - 1], sizeof(float)) != 0)
       l = detail::lod_levels(t.levels(), s.filter, lod[i]);
     p.f[i] = l.f;
+    lane_lo[i] = l.lo;
     two = two || l.f != 0.0f;
     one_level = one_level && l.lo == lo && l.hi == hi;
+    pairs = pairs && l.hi == std::min(l.lo + 1, top);
+    lo_min = std::min(lo_min, l.lo);
+    lo_max = std::max(lo_max, l.lo);
   }
-  if (!one_level) return;
+  const bool nearest = s.filter == Filter::kNearest;
+  // Lanes on levels (b, b + 1) and (b + 1, b + 2), bilinear within a level: three levels read
+  // (planned_straddle); further apart, the whole sampler per read.
+  const bool straddle = !one_level && !nearest && pairs && lo_max == lo_min + 1;
+  if (!one_level && !straddle) return;
   p.shared_levels = true;
   p.pow2 = detail::pow2_texture(t);
-  const bool nearest = s.filter == Filter::kNearest;
-  const int idx[2] = {lo, hi};
-  for (int k = 0; k < 2; ++k) {
+  const int n_levels = straddle ? 3 : 2;
+  int idx[3] = {lo, hi, hi};
+  if (straddle) {
+    idx[0] = lo_min;
+    idx[1] = lo_min + 1;
+    idx[2] = std::min(lo_min + 2, top);  // a top-level lane blends level[1] with itself at 0
+    for (int i = 0; i < kLanes; ++i) p.upper[i] = lane_lo[i] == lo_min ? 0.0f : 1.0f;
+  }
+  for (int k = 0; k < n_levels; ++k) {
     const MipLevel& m = t.level(idx[k]);
     p.level[k] = {idx[k], detail::level_size(t, idx[k]), {&m, detail::can_gather<FN>(m)}};
     // R8 bilinear reads on a gather target: one footprint word a read (bilinear_at), built on
     // the first plan that reads the level
-    if (t.format() == TexFormat::kR8 && !nearest && p.level[k].src.gather && (k == 0 || two))
+    if (t.format() == TexFormat::kR8 && !nearest && p.level[k].src.gather &&
+        (k == 0 || two || straddle))
       p.level[k].src.footprints = t.r8_footprints(idx[k], s.wrap_u, s.wrap_v);
+  }
+  if (straddle) {
+    switch (t.format()) {
+      case TexFormat::kR8:
+        p.read = &planned_straddle<TexFormat::kR8>;
+        break;
+      case TexFormat::kRG8:
+        p.read = &planned_straddle<TexFormat::kRG8>;
+        break;
+      case TexFormat::kR32F:
+        p.read = &planned_straddle<TexFormat::kR32F>;
+        break;
+      default:
+        p.read = &planned_straddle<TexFormat::kRGBA8>;
+        break;
+    }
+    return;
   }
   const int levels = two ? 2 : 1;
   switch (t.format()) {

@@ -43,9 +43,14 @@ struct RLodPlan {
   SamplerState sampler;
   float lod[kLanes] = {};  // the LODs it was prepared for (compared bit for bit)
   float f[kLanes] = {};    // the second level's weight per lane (two levels)
-  Level level[2] = {};
+  // Lanes on two neighbouring pairs of levels (straddling): level[0..2] are three levels in a
+  // row, and upper[i] is 1 where lane i reads level[1] and level[2] rather than level[0] and
+  // level[1], else 0.
+  float upper[kLanes] = {};
+  Level level[3] = {};
   bool pow2 = false;
-  bool shared_levels = false;  // every lane on level[0] (and level[1]): the specialised reads
+  bool shared_levels =
+      false;  // every lane on level[0] (and level[1]), or straddling: planned reads
   Read read = nullptr;
 
   // Whether this plan serves texture t, sampler s and the lanes' LODs lod[0..kLanes).

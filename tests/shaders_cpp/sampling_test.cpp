@@ -4,6 +4,7 @@
 // float and F8 instantiations agree bit for bit; the out-of-line entries (AVX2 clones) agree
 // with the inline sampler.
 #include <gtest/gtest.h>
+#include <algorithm>
 
 #include <cmath>
 #include <random>
@@ -238,7 +239,7 @@ TEST(Sampling, HalfDecodeOverLanesEqualsTheScalarOneForEveryHalf) {
 TEST(Sampling, PlannedReadMatchesTextureRLodBitForBit) {
   std::mt19937 rng(23);
   std::uniform_real_distribution<float> uvd(-3.0f, 3.0f), lodd(-1.5f, 8.0f);
-  int checked = 0, shared = 0, mixed = 0;
+  int checked = 0, shared = 0, straddling = 0, mixed = 0;
   for (TexFormat f : {TexFormat::kR8, TexFormat::kRG8, TexFormat::kRGBA8, TexFormat::kR32F})
     for (auto [w, h] : {std::pair{64, 32}, std::pair{37, 20}, std::pair{1, 1}}) {
       const Texture t = random_texture(f, w, h, ColorSpace::kLinear, static_cast<uint32_t>(w + h));
@@ -275,13 +276,16 @@ TEST(Sampling, PlannedReadMatchesTextureRLodBitForBit) {
               }
             }
             ASSERT_TRUE(plan.prepared_for(t, s, lod));
-            (plan.shared_levels ? shared : mixed) += 1;
+            const bool straddles =
+                std::any_of(plan.upper, plan.upper + 8, [](float u) { return u != 0.0f; });
+            (plan.shared_levels ? (straddles ? straddling : shared) : mixed) += 1;
           }
         }
     }
   EXPECT_EQ(checked, 4 * 3 * 3 * 2 * 24 * 4 * 8);
-  EXPECT_GT(shared, 500);  // mostly one level: the specialised reads are what was checked
-  EXPECT_GT(mixed, 20);    // and some packets on two levels: the whole sampler per read
+  EXPECT_GT(shared, 500);     // mostly one level: the specialised reads are what was checked
+  EXPECT_GT(straddling, 20);  // quads on neighbouring pairs of levels: three levels read
+  EXPECT_GT(mixed, 20);       // and quads further apart: the whole sampler per read
 
   // a plan made for one texture, sampler or LOD set is not used for another
   const Texture a = random_texture(TexFormat::kR8, 64, 64, ColorSpace::kLinear, 1);
