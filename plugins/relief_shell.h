@@ -371,6 +371,20 @@ struct ReliefKernel {
     return {light_step(lt, r.depth_scale), lt.z};
   }
 
+  // The self-shadow visibility of the hit towards world direction l on the lanes `lit`
+  // (Search::shadow); 1 without self-shadow or a depth map.
+  template <class F>
+  static F self_shadow(const ShadeContext& ctx, const Ray<F>& r, const SearchHit<F>& hit,
+                       const V3<F>& l, mask_t<F> lit, ShadeOut<F>& o) {
+    if constexpr (kShadow) {
+      if (r.depth.texture) {
+        const LightRayOf<F> lr = light_ray_of(r, l);
+        return Search::shadow(ctx, r.depth, hit, lr.dl, lr.lz, r.active & lit, o);
+      }
+    }
+    return F(1.0f);
+  }
+
   // Each light's self-shadow visibility at the hit, traced before the lighting: vis[i] for light
   // i, on the lanes light_toward says it reaches (what sum_lights hands the visibility); 1 where no
   // lane faces it, and for every light without self-shadow or a depth map.
@@ -380,28 +394,33 @@ struct ReliefKernel {
     const FrameUniforms& frame = *ctx.frame;
     for (int i = 0; i < frame.num_lights; ++i) vis[i] = F(1.0f);
     if constexpr (kShadow) {
-      if (!r.depth.texture) return;
       for (int i = 0; i < frame.num_lights; ++i) {
         const LightToward<F> lt = light_toward(frame.lights[i], s.pos, s.n);
-        if (none(lt.lit)) continue;
-        const LightRayOf<F> lr = light_ray_of(r, lt.ls.l);
-        vis[i] = Search::shadow(ctx, r.depth, hit, lr.dl, lr.lz, r.active & lt.lit, o);
+        if (any(lt.lit)) vis[i] = self_shadow(ctx, r, hit, lt.ls.l, lt.lit, o);
       }
     }
   }
 
-  // The lit colour of surface s, light i's self-shadow visibility vis[i] (self_shadows).
+  // The lit colour of surface s, light i's self-shadow visibility ray_visibility(i, l, lit).
+  template <class F, class RayVisibility>
+  static void light_with(const ShadeContext& ctx, const FragIn<F>& in, const Ray<F>& r,
+                         const SearchHit<F>& hit, const Surface<F>& s, ShadeOut<F>& o,
+                         RayVisibility&& ray_visibility) {
+    SurfaceColor<F> sc = s.sc;
+    o.color = shade_point<kReceive>(ctx, in, hit.uv, s.pos, s.n, r.view.w, sc, r.active, o,
+                                    ray_visibility);
+    o.shading_normal = s.n;
+  }
+  // light_with the visibilities self_shadows traced, vis[i] for light i.
   template <class F>
   static void light(const ShadeContext& ctx, const FragIn<F>& in, const Ray<F>& r,
                     const SearchHit<F>& hit, const Surface<F>& s, const F* vis, ShadeOut<F>& o) {
-    SurfaceColor<F> sc = s.sc;
-    o.color = shade_point<kReceive>(ctx, in, hit.uv, s.pos, s.n, r.view.w, sc, r.active, o,
-                                    [&](int i, const V3<F>&, mask_t<F>) { return vis[i]; });
-    o.shading_normal = s.n;
+    light_with(ctx, in, r, hit, s, o, [&](int i, const V3<F>&, mask_t<F>) { return vis[i]; });
   }
 
   // Everything after the search: the corrected depth, and outside the shadow pass the surface
-  // shaded at the hit (each light's self-shadow ray, then the lighting with the shadow maps).
+  // shaded at the hit, each light's self-shadow ray traced as the lighting asks for it (one
+  // group; a pair traces them first, finish_pair).
   template <class F>
   static ShadeOut<F> finish(const ShadeContext& ctx, const FragIn<F>& in, const Ray<F>& r,
                             const SearchHit<F>& hit) {
@@ -414,9 +433,9 @@ struct ReliefKernel {
       return o;
     } else {
       const Surface<F> s = surface(ctx, in, r, hit, o);
-      F vis[kMaxLights];
-      self_shadows(ctx, r, hit, s, o, vis);
-      light(ctx, in, r, hit, s, vis, o);
+      light_with(ctx, in, r, hit, s, o, [&](int, const V3<F>& l, mask_t<F> lit) {
+        return self_shadow(ctx, r, hit, l, lit, o);
+      });
       return o;
     }
   }

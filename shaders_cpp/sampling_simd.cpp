@@ -90,7 +90,7 @@ void begin_plan(const Texture& t, const SamplerState& s, const float* lod, RLodP
   std::memcpy(p.lod, lod, sizeof(p.lod));
   p.read = &planned_mixed;
   p.shared_levels = false;
-  std::memset(p.upper, 0, sizeof(p.upper));
+  p.straddles = false;
 }
 
 // quad_cone_lanes' plan: level[0] and pow2 set, and shared_levels, where the lanes can be read
@@ -156,9 +156,8 @@ void prepare_r_lod(const Texture& t, const SamplerState& s, const float* lod, RL
   // Lane by lane in float (the same bits as lod_levels over FN), once per distinct LOD: kernels
   // hold one LOD per quad, so lanes usually repeat their neighbour's.
   detail::LodLevels<float> l = detail::lod_levels(t.levels(), s.filter, lod[0]);
-  const int lo = l.lo, hi = l.hi, top = t.levels() - 1;
-  int lo_min = lo, lo_max = lo;
-  bool two = false, one_level = true, pairs = true;  // pairs: every lane's hi is min(lo + 1, top)
+  const int lo = l.lo, hi = l.hi;
+  bool two = false, one_level = true;
   int lane_lo[kLanes];
   for (int i = 0; i < kLanes; ++i) {
     if (i > 0 && std::memcmp(&lod[i], &lod[i - 1], sizeof(float)) != 0)
@@ -167,16 +166,24 @@ void prepare_r_lod(const Texture& t, const SamplerState& s, const float* lod, RL
     lane_lo[i] = l.lo;
     two = two || l.f != 0.0f;
     one_level = one_level && l.lo == lo && l.hi == hi;
-    pairs = pairs && l.hi == std::min(l.lo + 1, top);
-    lo_min = std::min(lo_min, l.lo);
-    lo_max = std::max(lo_max, l.lo);
   }
   const bool nearest = s.filter == Filter::kNearest;
   // Lanes on levels (b, b + 1) and (b + 1, b + 2), bilinear within a level: three levels read
   // (planned_straddle); further apart, the whole sampler per read.
-  const bool straddle = !one_level && !nearest && pairs && lo_max == lo_min + 1;
+  const int top = t.levels() - 1;
+  int lo_min = lo;
+  bool straddle = false;
+  if (!one_level && !nearest) {
+    for (int i = 1; i < kLanes; ++i) lo_min = std::min(lo_min, lane_lo[i]);
+    straddle = true;
+    for (int i = 0; i < kLanes && straddle; ++i) {
+      const detail::LodLevels<float> li = detail::lod_levels(t.levels(), s.filter, lod[i]);
+      straddle = (li.lo == lo_min || li.lo == lo_min + 1) && li.hi == std::min(li.lo + 1, top);
+    }
+  }
   if (!one_level && !straddle) return;
   p.shared_levels = true;
+  p.straddles = straddle;
   p.pow2 = detail::pow2_texture(t);
   const int n_levels = straddle ? 3 : 2;
   int idx[3] = {lo, hi, hi};

@@ -47,6 +47,7 @@ struct RLodPlan {
   // row, and upper[i] is 1 where lane i reads level[1] and level[2] rather than level[0] and
   // level[1], else 0.
   float upper[kLanes] = {};
+  bool straddles = false;  // the lanes straddle (planned_straddle reads)
   Level level[3] = {};
   bool pow2 = false;
   bool shared_levels =

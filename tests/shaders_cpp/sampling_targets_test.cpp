@@ -85,9 +85,7 @@ PlannedCheck check_packets(uint32_t seed, TexFormat format, std::initializer_lis
               }
             }
             if (counted(plan)) ++c.footprint_plans;
-            if (plan.shared_levels &&
-                std::any_of(plan.upper, plan.upper + kLanes, [](float u) { return u != 0.0f; }))
-              ++c.straddle_plans;
+            if (plan.straddles) ++c.straddle_plans;
           }
         }
   }
