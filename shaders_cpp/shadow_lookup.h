@@ -235,8 +235,12 @@ F shadow_lookup_lanes(const ShadowMapView& m, int f, const V3<F>& p, const V3<F>
   const F bias = texel_w * (F(m.settings.depth_bias) + F(m.settings.slope_bias) * tan_t);
   const F plane = nex * qx + ney * qy + nez * qz;
   const int r = m.settings.pcf_radius;
-  // lanes left lit take texel (0, 0): their taps are read and not used
-  const F bx = select(in, px, half) - half, by = select(in, py, half) - half;
+  // lanes left lit read the taps of the first lane in the map (tiles it makes drawn below; a
+  // texel of a tile not drawn may be being written by another thread) and do not use them
+  int first = 0;
+  while (!lane(in, first)) ++first;
+  const F bx = select(in, px, F(lane(px, first))) - half;
+  const F by = select(in, py, F(lane(py, first))) - half;
   const F x0f = vfloor(bx), y0f = vfloor(by);
   const F fx = bx - x0f, fy = by - y0f;
   const I x0 = trunc_to_int(x0f), y0 = trunc_to_int(y0f);
