@@ -462,12 +462,8 @@ struct ReliefKernel {
       const Surface<F>& s, const F* vis, ShadeOut<F>& o) {
     light(ctx, in, r, hit, s, vis, o);
   }
-  template <class F>
-  RELIEF_LANE_FLATTEN __attribute__((noinline)) static ShadeOut<F> finish_out_of_line(
-      const ShadeContext& ctx, const FragIn<F>& in, const Ray<F>& r, const SearchHit<F>& hit) {
-    return finish(ctx, in, r, hit);
-  }
-  // finish(), from the out-of-line parts in a paired kernel's lane loop.
+  // finish(), from the out-of-line parts in a paired kernel's lane loop (the shadow pass's
+  // finish, the hit and its depth, is small enough to inline).
   template <class F>
   static ShadeOut<F> finish_once(const ShadeContext& ctx, const FragIn<F>& in, const Ray<F>& r,
                                  const SearchHit<F>& hit) {
@@ -478,8 +474,6 @@ struct ReliefKernel {
       self_shadows(ctx, r, hit, s, o, vis);
       light_out_of_line(ctx, in, r, hit, s, vis, o);
       return o;
-    } else if constexpr (kPaired && is_lanes_v<F>) {
-      return finish_out_of_line(ctx, in, r, hit);
     } else {
       return finish(ctx, in, r, hit);
     }

@@ -158,12 +158,13 @@ void prepare_r_lod(const Texture& t, const SamplerState& s, const float* lod, RL
   detail::LodLevels<float> l = detail::lod_levels(t.levels(), s.filter, lod[0]);
   const int lo = l.lo, hi = l.hi;
   bool two = false, one_level = true;
-  int lane_lo[kLanes];
+  int lane_lo[kLanes], lane_hi[kLanes];
   for (int i = 0; i < kLanes; ++i) {
     if (i > 0 && std::memcmp(&lod[i], &lod[i - 1], sizeof(float)) != 0)
       l = detail::lod_levels(t.levels(), s.filter, lod[i]);
     p.f[i] = l.f;
     lane_lo[i] = l.lo;
+    lane_hi[i] = l.hi;
     two = two || l.f != 0.0f;
     one_level = one_level && l.lo == lo && l.hi == hi;
   }
@@ -176,10 +177,9 @@ void prepare_r_lod(const Texture& t, const SamplerState& s, const float* lod, RL
   if (!one_level && !nearest) {
     for (int i = 1; i < kLanes; ++i) lo_min = std::min(lo_min, lane_lo[i]);
     straddle = true;
-    for (int i = 0; i < kLanes && straddle; ++i) {
-      const detail::LodLevels<float> li = detail::lod_levels(t.levels(), s.filter, lod[i]);
-      straddle = (li.lo == lo_min || li.lo == lo_min + 1) && li.hi == std::min(li.lo + 1, top);
-    }
+    for (int i = 0; i < kLanes && straddle; ++i)
+      straddle = (lane_lo[i] == lo_min || lane_lo[i] == lo_min + 1) &&
+                 lane_hi[i] == std::min(lane_lo[i] + 1, top);
   }
   if (!one_level && !straddle) return;
   p.shared_levels = true;
