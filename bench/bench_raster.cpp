@@ -98,10 +98,11 @@ void BM_Raster_Normal(benchmark::State& state) {
   run_plane(state, "normal");
 }
 // The CPU side of `relief bench`'s appendix yardstick (sweep.h appendix_lean; issue 26, goal 3):
-// the `bricks` field at 30 degrees, 1920x1080, `relief` 10+5 lod=zero without self-shadow,
-// shadows or depth writes. Its items are the fragments shaded (the covered pixels).
+// a field (0: `bricks`, 1: `pattern`, whose rays go deeper) at 30 degrees, 1920x1080, `relief`
+// 10+5 lod=zero without self-shadow, shadows or depth writes. Its items are the fragments shaded
+// (the covered pixels).
 void BM_Raster_ReliefLean(benchmark::State& state) {
-  Result<sweep::Field> field = sweep::builtin_field("bricks");
+  Result<sweep::Field> field = sweep::builtin_field(state.range(2) == 0 ? "bricks" : "pattern");
   if (!field.ok()) {
     state.SkipWithError(field.status().message().c_str());
     return;
@@ -122,8 +123,8 @@ BENCHMARK(BM_Raster_Normal)
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
 BENCHMARK(BM_Raster_ReliefLean)
-    ->ArgsProduct({{1, 2}, {1}})
-    ->ArgNames({"threads", "recycle"})
+    ->ArgsProduct({{1, 2}, {1}, {0, 1}})
+    ->ArgNames({"threads", "recycle", "field"})
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
 
