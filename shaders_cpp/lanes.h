@@ -337,10 +337,24 @@ template <int N>
 inline FV<N> select(MV<N> m, FV<N> a, FV<N> b) {
   return FV<N>(m.v ? a.v : b.v);
 }
-// A lane is true when its word is not zero. any/all OR the mask's 64-bit words together:
-// branch-free, where a lane-by-lane loop costs a branch a lane (a search loop asks every step).
+// A lane is true when its word is not zero. any/all test the whole mask at once: one test
+// instruction of the mask against itself where the target has it (vptestmd on AVX-512, vptest
+// on AVX2 and up), else an OR of its 64-bit words; branch-free either way, where a lane-by-lane
+// loop costs a branch a lane (a search loop asks every step).
 template <int N>
 inline bool any(MV<N> m) {
+#if HWY_ARCH_X86 && HWY_TARGET <= HWY_AVX2
+  if constexpr (N == 8) {
+    const __m256i v = (__m256i)m.v;
+    return !_mm256_testz_si256(v, v);
+  }
+#endif
+#if HWY_ARCH_X86 && HWY_TARGET <= HWY_AVX3
+  if constexpr (N == 16) {
+    const __m512i v = (__m512i)m.v;
+    return _mm512_test_epi32_mask(v, v) != 0;
+  }
+#endif
   uint64_t w[N / 2];
   std::memcpy(w, &m.v, sizeof w);
   uint64_t r = 0;
