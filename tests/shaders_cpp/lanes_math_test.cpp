@@ -117,27 +117,6 @@ TEST(LanesMath, F8FloorIsStdFloorBitForBit) {
   }
 }
 
-// any / all / none over every pattern of 8 lanes, with true lanes written as -1 (what comparisons
-// give) and as other non-zero words (1, INT_MIN, 0x100): a lane is true when its word is not zero.
-TEST(LanesMath, MaskReductionsMatchLaneByLane) {
-  const int32_t trues[] = {-1, 1, INT32_MIN, 0x100};
-  for (int32_t t : trues) {
-    for (int bits = 0; bits < 256; ++bits) {
-      M8 m;
-      bool any_ref = false, all_ref = true;
-      for (int i = 0; i < 8; ++i) {
-        const bool on = (bits >> i) & 1;
-        m.v[i] = on ? t : 0;
-        any_ref = any_ref || on;
-        all_ref = all_ref && on;
-      }
-      EXPECT_EQ(any(m), any_ref) << bits << " " << t;
-      EXPECT_EQ(all(m), all_ref) << bits << " " << t;
-      EXPECT_EQ(none(m), !any_ref) << bits << " " << t;
-    }
-  }
-}
-
 TEST(LanesMath, FloatAndF8AreBitIdentical) {
   std::mt19937 rng(13);
   std::uniform_real_distribution<float> d(-40.0f, 40.0f);

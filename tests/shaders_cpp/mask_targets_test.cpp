@@ -3,6 +3,7 @@
 // (vptest on AVX2, vptestmd on AVX-512), so each level is checked against a lane-by-lane
 // reduction over every pattern of true lanes, a true lane written as -1 (what comparisons give)
 // and as other non-zero words (1, INT_MIN, 0x100): a lane is true when its word is not zero.
+// (The baseline level is the static target's code, which lanes_math_test.cpp checked alone before.)
 #undef HWY_TARGET_INCLUDE
 #define HWY_TARGET_INCLUDE "tests/shaders_cpp/mask_targets_test.cpp"
 #include <hwy/foreach_target.h>  // IWYU pragma: keep
