@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <cmath>
 #include <cstring>
 #include <iterator>
@@ -644,10 +645,13 @@ void Texture::dilate_mips(MipReduce reduce, Wrap wrap_u, Wrap wrap_v) {
   reset_footprints();
 }
 
-// Per level and wrap pair (repeat or clamp each way): the footprint words, built once.
+// Per level and wrap pair (repeat or clamp each way): the footprint words, built once. `built`
+// is set (release) after the words are, so a reader that sees it (acquire) skips call_once:
+// libstdc++'s call_once writes thread-local state on every call, even when the work is done.
 struct Texture::FootprintCache {
-  explicit FootprintCache(size_t levels) : once(levels * 4), words(levels * 4) {}
+  explicit FootprintCache(size_t levels) : once(levels * 4), built(levels * 4), words(levels * 4) {}
   std::vector<std::once_flag> once;
+  std::vector<std::atomic<bool>> built;      // value-initialised: false
   std::vector<std::vector<uint32_t>> words;  // a row is the level's width (+ 1 for clamp)
 };
 
@@ -669,6 +673,7 @@ Texture::Footprints Texture::r8_footprints(int level, Wrap wrap_u, Wrap wrap_v) 
   FootprintCache& c = *footprints_;
   const size_t slot = static_cast<size_t>(level) * 4 + (wrap_u == Wrap::kClamp ? 2 : 0) +
                       (wrap_v == Wrap::kClamp ? 1 : 0);
+  if (c.built[slot].load(std::memory_order_acquire)) return {c.words[slot].data(), cols};
   std::call_once(c.once[slot], [&] {
     // the integer corner each cell stands for: the cell itself (repeat), one before (clamp)
     const int du = wrap_u == Wrap::kClamp ? -1 : 0, dv = wrap_v == Wrap::kClamp ? -1 : 0;
@@ -686,6 +691,7 @@ Texture::Footprints Texture::r8_footprints(int level, Wrap wrap_u, Wrap wrap_v) 
                                                  uint32_t{d[y1 + x1]} << 24;
       }
     }
+    c.built[slot].store(true, std::memory_order_release);
   });
   return {c.words[slot].data(), cols};
 }

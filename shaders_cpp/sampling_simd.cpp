@@ -154,19 +154,24 @@ void prepare_r_lod(const Texture& t, const SamplerState& s, const float* lod, RL
   begin_plan(t, s, lod, p);
   if (!detail::vector_sampling_ok(t, s)) return;
   // Lane by lane in float (the same bits as lod_levels over FN), once per distinct LOD: kernels
-  // hold one LOD per quad, so lanes usually repeat their neighbour's.
+  // hold one LOD per quad, so lanes usually repeat their neighbour's; one LOD for every lane (a
+  // `lod=zero` search) is derived once.
   detail::LodLevels<float> l = detail::lod_levels(t.levels(), s.filter, lod[0]);
   const int lo = l.lo, hi = l.hi;
-  bool two = false, one_level = true;
-  int lane_lo[kLanes], lane_hi[kLanes];
-  for (int i = 0; i < kLanes; ++i) {
-    if (i > 0 && std::memcmp(&lod[i], &lod[i - 1], sizeof(float)) != 0)
-      l = detail::lod_levels(t.levels(), s.filter, lod[i]);
-    p.f[i] = l.f;
-    lane_lo[i] = l.lo;
-    lane_hi[i] = l.hi;
-    two = two || l.f != 0.0f;
-    one_level = one_level && l.lo == lo && l.hi == hi;
+  bool two = l.f != 0.0f, one_level = true;
+  int lane_lo[kLanes] = {}, lane_hi[kLanes] = {};
+  if (!any(MV<kLanes>{bits_of(FN::load(lod)).v ^ IN(bits_of(lod[0])).v})) {
+    FN(l.f).store(p.f);
+  } else {
+    for (int i = 0; i < kLanes; ++i) {
+      if (i > 0 && std::memcmp(&lod[i], &lod[i - 1], sizeof(float)) != 0)
+        l = detail::lod_levels(t.levels(), s.filter, lod[i]);
+      p.f[i] = l.f;
+      lane_lo[i] = l.lo;
+      lane_hi[i] = l.hi;
+      two = two || l.f != 0.0f;
+      one_level = one_level && l.lo == lo && l.hi == hi;
+    }
   }
   const bool nearest = s.filter == Filter::kNearest;
   // Lanes on levels (b, b + 1) and (b + 1, b + 2), bilinear within a level: three levels read
@@ -185,7 +190,7 @@ void prepare_r_lod(const Texture& t, const SamplerState& s, const float* lod, RL
   p.shared_levels = true;
   p.straddles = straddle;
   p.pow2 = detail::pow2_texture(t);
-  const int n_levels = straddle ? 3 : 2;
+  const int n_levels = straddle ? 3 : two ? 2 : 1;  // the levels the read below uses
   int idx[3] = {lo, hi, hi};
   if (straddle) {
     idx[0] = lo_min;
@@ -198,8 +203,7 @@ void prepare_r_lod(const Texture& t, const SamplerState& s, const float* lod, RL
     p.level[k] = {idx[k], detail::level_size(t, idx[k]), {&m, detail::can_gather<FN>(m)}};
     // R8 bilinear reads on a gather target: one footprint word a read (bilinear_at), built on
     // the first plan that reads the level
-    if (t.format() == TexFormat::kR8 && !nearest && p.level[k].src.gather &&
-        (k == 0 || two || straddle))
+    if (t.format() == TexFormat::kR8 && !nearest && p.level[k].src.gather)
       p.level[k].src.footprints = t.r8_footprints(idx[k], s.wrap_u, s.wrap_v);
   }
   if (straddle) {

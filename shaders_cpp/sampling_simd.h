@@ -30,6 +30,12 @@ namespace HWY_NAMESPACE {
 // texture_r_lod over the native lanes.
 FN texture_r_lod_lanes(const Texture& t, const SamplerState& s, const V2<FN>& uv, const FN& lod);
 
+// Whether a[0..kLanes) and b[0..kLanes) hold the same bits (memcmp's answer, in one vector test:
+// the XOR of the two is zero in every lane).
+inline bool same_lane_bits(const float* a, const float* b) {
+  return !any(MV<kLanes>{bits_of(FN::load(a)).v ^ bits_of(FN::load(b)).v});
+}
+
 // texture_r_lod prepared for many reads at one texture, sampler and LOD per lane (a depth
 // search: the LOD is per quad and fixed along the ray). prepare_r_lod chooses the mip levels,
 // their sizes and where their texels come from once; each read then computes only its
@@ -57,7 +63,7 @@ struct RLodPlan {
   // Whether this plan serves texture t, sampler s and the lanes' LODs lod[0..kLanes).
   bool prepared_for(const Texture& t, const SamplerState& s, const float* l) const {
     return texture == &t && sampler.filter == s.filter && sampler.wrap_u == s.wrap_u &&
-           sampler.wrap_v == s.wrap_v && std::memcmp(lod, l, sizeof(lod)) == 0;
+           sampler.wrap_v == s.wrap_v && same_lane_bits(lod, l);
   }
 };
 

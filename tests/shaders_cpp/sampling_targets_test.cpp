@@ -28,6 +28,7 @@ struct PlannedCheck {
   long checked = 0, mismatched = 0;
   long footprint_plans = 0;  // plans whose first level reads footprint words
   long straddle_plans = 0;   // plans of lanes on two neighbouring pairs of levels
+  long one_lod_blends = 0;   // plans of one LOD for every lane that blend two levels
   std::string first_mismatch;
 };
 }  // namespace relief
@@ -40,8 +41,9 @@ namespace {
 
 // Packets of reads against the scalar sampler, lane by lane: for each texture size (random texels
 // of `format`, full mip chains), filter and pair of wraps, 16 packets with one LOD per quad (every
-// quad on level 0 in a quarter of them) and three reads each, the third at uvs far off the texture
-// and on its edges. read(t, s, plan, n, lod, uv) reads packet n; want(t, s, n, lane, lod, u, v)
+// quad on level 0 in packets 0 and 4, every quad at LOD 0.5 in packet 8 and 1.5 in packet 12)
+// and three reads each, the third at uvs far off the texture and on its
+// edges. read(t, s, plan, n, lod, uv) reads packet n; want(t, s, n, lane, lod, u, v)
 // is that lane's scalar value; counted(plan) says whether the packet's plan adds to
 // footprint_plans.
 template <class Read, class Want, class Counted>
@@ -63,7 +65,9 @@ PlannedCheck check_packets(uint32_t seed, TexFormat format, std::initializer_lis
           for (int n = 0; n < 16; ++n) {
             float lod[kLanes];
             for (int i = 0; i < kLanes; i += 4) {
-              const float l = n % 4 == 0 ? 0.0f : lodd(rng);
+              const float l = n % 4 != 0 ? lodd(rng)
+                              : n < 8    ? 0.0f
+                                         : 0.5f + static_cast<float>(n / 4 - 2);
               for (int k = 0; k < 4; ++k) lod[i + k] = l;
             }
             for (int r = 0; r < 3; ++r) {
@@ -86,6 +90,7 @@ PlannedCheck check_packets(uint32_t seed, TexFormat format, std::initializer_lis
             }
             if (counted(plan)) ++c.footprint_plans;
             if (plan.straddles) ++c.straddle_plans;
+            if (n >= 8 && n % 4 == 0 && plan.shared_levels && plan.f[0] != 0.0f) ++c.one_lod_blends;
           }
         }
   }
@@ -157,10 +162,13 @@ TEST(SamplingTargets, PlannedR8ReadsGiveSampleRLodBitsOnEveryLevel) {
     EXPECT_EQ(c.mismatched, 0) << simd_level_name(level) << ": " << c.first_mismatch;
     EXPECT_EQ(c.checked % 4, 0);
     EXPECT_GT(c.checked, 4 * 2 * 4 * 16 * 3 * 4) << simd_level_name(level);
-    // the gather levels read footprint words wherever the lanes share a level: at least in every
-    // packet at level 0 (a quarter) of the three textures large enough for gathers
     // quads on neighbouring pairs of levels are read through three levels
     EXPECT_GE(c.straddle_plans, 5) << simd_level_name(level);
+    // one fractional LOD for every lane blends two shared levels: both such packets of the
+    // trilinear filter on the three textures with more than one level, at all four wraps
+    EXPECT_EQ(c.one_lod_blends, 3 * 4 * 2) << simd_level_name(level);
+    // the gather levels read footprint words wherever the lanes share a level: at least in every
+    // packet of one LOD for every quad (a quarter) of the three textures large enough for gathers
     if (level != SimdLevel::kBaseline)
       EXPECT_GE(c.footprint_plans, 3 * 2 * 4 * 4) << simd_level_name(level);
     else
@@ -174,7 +182,8 @@ TEST(SamplingTargets, QuadConeReadsGiveSampleLodBitsOnEveryLevel) {
     EXPECT_EQ(c.mismatched, 0) << simd_level_name(level) << ": " << c.first_mismatch;
     constexpr long kReads = 4 * 3 * 2 * 16 * 3;  // sizes, wraps, packets, reads
     EXPECT_TRUE(c.checked == kReads * 8 || c.checked == kReads * 16) << c.checked;
-    // read over the lanes: at least the packets on level 0 (a quarter) with unmirrored wraps
+    // read over the lanes: at least the packets of one LOD for every quad (a quarter) with
+    // unmirrored wraps
     EXPECT_GE(c.footprint_plans, 4 * 2 * 2 * 4) << simd_level_name(level);
   });
 }
