@@ -42,19 +42,32 @@ inline bool same_lane_bits(const float* a, const float* b) {
 // coordinates, texel loads and lerps, in an entry specialised for the texture's format and the
 // filter (nearest, one bilinear level or two blended). When the lanes' LODs fall on different
 // levels it reads through texture_r_lod_lanes. Same bits as texture_r_lod either way.
+//
+// A plan is a cache that every depth source holds (TextureDepth, one a group of lanes), so it is
+// cheap to make: only `texture` (null: not prepared) and the small fields start set, and the
+// arrays are written by prepare_r_lod before any read uses them (zeroing them in every
+// TextureDepth took 1.9% of the lean relief's time). A copy starts unprepared rather than
+// copying: the copy's owner may be retargeted (relief_dual's back layer), and it reads nothing
+// of the original.
 struct RLodPlan {
   using Level = detail::LevelAccess<int32_t>;  // what bilinear_at / nearest_at read, per plan
   using Read = FN (*)(const RLodPlan&, const V2<FN>&);
+  RLodPlan() {}  // user-provided: value-initialising a plan (`{}`) does not zero it either
+  RLodPlan(const RLodPlan&) {}
+  RLodPlan& operator=(const RLodPlan&) {
+    texture = nullptr;
+    return *this;
+  }
   const Texture* texture = nullptr;
   SamplerState sampler;
-  float lod[kLanes] = {};  // the LODs it was prepared for (compared bit for bit)
-  float f[kLanes] = {};    // the second level's weight per lane (two levels)
+  float lod[kLanes];  // the LODs it was prepared for (compared bit for bit)
+  float f[kLanes];    // the second level's weight per lane (two levels)
   // Lanes on two neighbouring pairs of levels (straddling): level[0..2] are three levels in a
   // row, and upper[i] is 1 where lane i reads level[1] and level[2] rather than level[0] and
   // level[1], else 0.
-  float upper[kLanes] = {};
+  float upper[kLanes];
   bool straddles = false;  // the lanes straddle (planned_straddle reads)
-  Level level[3] = {};
+  Level level[3];
   bool pow2 = false;
   bool shared_levels =
       false;  // every lane on level[0] (and level[1]), or straddling: planned reads

@@ -16,6 +16,7 @@
 
 #include "rasterizer/texture.h"
 #include "shaders_cpp/sampling_simd.h"
+#include "shaders_cpp/search.h"
 #include "tests/shaders_cpp/random_texture.h"
 
 #include <hwy/highway.h>
@@ -139,6 +140,54 @@ PlannedCheck check_quad_cone(uint32_t seed) {
       [](const RLodPlan& plan) { return plan.shared_levels; });  // here: read over the lanes
 }
 
+// Copies of a prepared plan start unprepared (RLodPlan's copy constructor and assignment), and a
+// copied TextureDepth retargeted to another texture (relief_dual's back layer) reads that
+// texture: for 16 packets of random LODs per quad on two random R8 textures, trilinear. A plan
+// that says it serves what it does not, or a read that differs from the scalar sampler's bits,
+// counts as a mismatch.
+PlannedCheck check_plan_copies(uint32_t seed) {
+  PlannedCheck c;
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<float> uvd(-3.0f, 3.0f), lodd(-1.5f, 7.0f);
+  const Texture front = testing::random_texture(TexFormat::kR8, 64, 32, ColorSpace::kLinear, seed);
+  const Texture back =
+      testing::random_texture(TexFormat::kR8, 64, 32, ColorSpace::kLinear, seed + 1);
+  const SamplerState s = testing::sampler_state(Filter::kTrilinear, Wrap::kRepeat, Wrap::kRepeat);
+  const auto mismatch = [&](bool bad, const std::string& what) {
+    ++c.checked;
+    if (bad && c.mismatched++ == 0) c.first_mismatch = what;
+  };
+  for (int n = 0; n < 16; ++n) {
+    TextureDepth a;
+    a.texture = &front;
+    a.sampler = &s;
+    for (int i = 0; i < kLanes; i += 4) std::fill(a.lod + i, a.lod + i + 4, lodd(rng));
+    alignas(64) float u[kLanes], v[kLanes], got[kLanes];
+    for (int i = 0; i < kLanes; ++i) {
+      u[i] = uvd(rng);
+      v[i] = uvd(rng);
+    }
+    const V2<FN> uv(FN::load(u), FN::load(v));
+    a.lanes(uv);  // prepares a's plan
+    mismatch(!a.plan.prepared_for(front, s, a.lod), "the read left its plan unprepared");
+    RLodPlan assigned;
+    assigned = a.plan;
+    mismatch(RLodPlan(a.plan).prepared_for(front, s, a.lod), "a copied plan is prepared");
+    mismatch(assigned.prepared_for(front, s, a.lod), "an assigned plan is prepared");
+    TextureDepth b = a;
+    b.texture = &back;
+    for (const TextureDepth* d : {&b, &a}) {
+      d->lanes(uv).store(got);
+      for (int i = 0; i < kLanes; ++i) {
+        const float want = sample_r_lod(*d->texture, s, glm::vec2(u[i], v[i]), d->lod[i]);
+        mismatch(std::memcmp(&got[i], &want, sizeof(float)) != 0,
+                 std::string(d == &b ? "back" : "front") + " lane " + std::to_string(i));
+      }
+    }
+  }
+  return c;
+}
+
 }  // namespace
 }  // namespace HWY_NAMESPACE
 }  // namespace relief
@@ -155,6 +204,7 @@ namespace {
 
 HWY_EXPORT(check_planned_r8);
 HWY_EXPORT(check_quad_cone);
+HWY_EXPORT(check_plan_copies);
 
 TEST(SamplingTargets, PlannedR8ReadsGiveSampleRLodBitsOnEveryLevel) {
   testing::on_every_level([](SimdLevel level) {
@@ -185,6 +235,15 @@ TEST(SamplingTargets, QuadConeReadsGiveSampleLodBitsOnEveryLevel) {
     // read over the lanes: at least the packets of one LOD for every quad (a quarter) with
     // unmirrored wraps
     EXPECT_GE(c.footprint_plans, 4 * 2 * 2 * 4) << simd_level_name(level);
+  });
+}
+
+TEST(SamplingTargets, PlanCopiesStartUnpreparedAndRetargetedCopiesReadTheirTexture) {
+  testing::on_every_level([](SimdLevel level) {
+    const PlannedCheck c = HWY_DYNAMIC_DISPATCH(check_plan_copies)(23);
+    EXPECT_EQ(c.mismatched, 0) << simd_level_name(level) << ": " << c.first_mismatch;
+    // three plan checks and both depth sources' lanes a packet, at 8 or 16 lanes
+    EXPECT_TRUE(c.checked == 16 * (3 + 2 * 8) || c.checked == 16 * (3 + 2 * 16)) << c.checked;
   });
 }
 
