@@ -358,6 +358,70 @@ inline LevelAccess<int_t<F>> level_access(const Texture& t, int_t<F> lvl) {
   return {lvl, level_size(t, lvl), word_source<F>(t, lvl)};
 }
 
+// The texel space of a bilinear read at uv on a level of size (w, h): the integer corner (ix, iy)
+// of its 2x2 footprint and the weights a, b of its second column and row.
+template <class F>
+struct BilinearCorner {
+  int_t<F> ix, iy;
+  F a, b;
+};
+template <class F>
+[[gnu::always_inline]] inline BilinearCorner<F> bilinear_corner(const V2<F>& uv, const int_t<F>& w,
+                                                                const int_t<F>& h) {
+  const F xf = texel_coord(uv.x, to_float(w), F(0.5f));
+  const F yf = texel_coord(uv.y, to_float(h), F(0.5f));
+  const F fx = floor_coord(xf), fy = floor_coord(yf);
+  return {trunc_to_int(fx), trunc_to_int(fy), xf - fx, yf - fy};
+}
+
+// The four R8 texels (t00, t10, t01, t11 in bytes 0 to 3) of the bilinear footprint with corner
+// (ix, iy) on a level with footprint words fp (Texture::r8_footprints): one gathered word.
+template <class I>
+[[gnu::always_inline]] inline I footprint_word(const Texture::Footprints& fp, const SamplerState& s,
+                                               const I& ix, const I& iy, const LevelSize<I>& size,
+                                               bool pow2) {
+  const I col = footprint_cells(ix, size.w, s.wrap_u, pow2);
+  const I row = footprint_cells(iy, size.h, s.wrap_v, pow2);
+  // repeat across: a row is the level's width, a shift where it is a power of two
+  const I idx =
+      s.wrap_u == Wrap::kRepeat ? row_offset(row, size, pow2) + col : row * I(fp.width) + col;
+  return gather_u32(fp.words, idx);
+}
+
+// Channels 0 .. kUsed - 1 of the bilinear blend of four texel words: each corner decoded, then
+// lerped along x by a and along y by b (GL's decode-then-filter order).
+template <TexFormat kFmt, int kUsed, class F>
+[[gnu::always_inline]] inline V4<F> bilinear_blend(const int_t<F>& t00, const int_t<F>& t10,
+                                                   const int_t<F>& t01, const int_t<F>& t11,
+                                                   const F& a, const F& b, const float* lut,
+                                                   bool srgb) {
+  F out[4] = {F(0.0f), F(0.0f), F(0.0f), F(0.0f)};
+  for (int c = 0; c < kUsed; ++c) {
+    const F c00 = decode_texel<kFmt, F>(t00, c, lut, srgb);
+    const F c10 = decode_texel<kFmt, F>(t10, c, lut, srgb);
+    const F c01 = decode_texel<kFmt, F>(t01, c, lut, srgb);
+    const F c11 = decode_texel<kFmt, F>(t11, c, lut, srgb);
+    const F top = c00 + a * (c10 - c00);
+    const F bottom = c01 + a * (c11 - c01);
+    out[c] = top + b * (bottom - top);
+  }
+  return {out[0], out[1], out[2], out[3]};
+}
+
+// GL bilinear of an R8 level with footprint words (at.src.footprints), channel 0: bilinear_at's
+// bits, with none of its other paths. `lut` is srgb8_table() for an sRGB texture (srgb), else
+// unused.
+template <class F>
+[[gnu::always_inline]] inline F bilinear_footprint_at(const SamplerState& s, const V2<F>& uv,
+                                                      const LevelAccess<int_t<F>>& at, bool pow2,
+                                                      const float* lut, bool srgb) {
+  const BilinearCorner<F> k = bilinear_corner<F>(uv, at.size.w, at.size.h);
+  const int_t<F> word = footprint_word(at.src.footprints, s, k.ix, k.iy, at.size, pow2);
+  return bilinear_blend<TexFormat::kR8, 1, F>(word, word >> 8, word >> 16, word >> 24, k.a, k.b,
+                                              lut, srgb)
+      .x;
+}
+
 // GL bilinear at the mip level(s) `at` of a texture of format kFmt.
 template <TexFormat kFmt, int kUsed, class F>
 [[gnu::always_inline]] inline V4<F> bilinear_at(const Texture& t, const SamplerState& s, V2<F> uv,
@@ -365,11 +429,8 @@ template <TexFormat kFmt, int kUsed, class F>
   using I = int_t<F>;
   const I& lvl = at.lvl;
   const I &w = at.size.w, &h = at.size.h;
-  const F xf = texel_coord(uv.x, to_float(w), F(0.5f));
-  const F yf = texel_coord(uv.y, to_float(h), F(0.5f));
-  const F fx = floor_coord(xf), fy = floor_coord(yf);
-  const F a = xf - fx, b = yf - fy;
-  const I ix = trunc_to_int(fx), iy = trunc_to_int(fy);
+  const BilinearCorner<F> k = bilinear_corner<F>(uv, w, h);
+  const I &ix = k.ix, &iy = k.iy;
   const WordSource& src = at.src;
   constexpr int kB = texel_bytes(kFmt);
   I t00, t10, t01, t11;
@@ -377,17 +438,11 @@ template <TexFormat kFmt, int kUsed, class F>
   if constexpr (kHwyLanes<F> && kFmt == TexFormat::kR8) {
     if (src.footprints.words) {  // the four texels in one word (Texture::r8_footprints)
       gathered = true;
-      const Texture::Footprints& fp = src.footprints;
-      const I col = footprint_cells(ix, w, s.wrap_u, pow2);
-      const I row = footprint_cells(iy, h, s.wrap_v, pow2);
-      // repeat across: a row is the level's width, a shift where it is a power of two
-      const I idx = s.wrap_u == Wrap::kRepeat ? row_offset(row, at.size, pow2) + col
-                                              : row * I(fp.width) + col;
-      const I word = gather_u32(fp.words, idx);
-      t00 = word & I(0xff);
-      t10 = (word >> 8) & I(0xff);
-      t01 = (word >> 16) & I(0xff);
-      t11 = (word >> 24) & I(0xff);
+      const I word = footprint_word(src.footprints, s, ix, iy, at.size, pow2);
+      t00 = word;  // decode8 takes each texel's byte
+      t10 = word >> 8;
+      t01 = word >> 16;
+      t11 = word >> 24;
     }
   }
   if (!gathered) {  // the texels of the four corners, wrapped apart
@@ -431,17 +486,7 @@ template <TexFormat kFmt, int kUsed, class F>
   }
   const bool srgb = t.color_space() == ColorSpace::kSRGB;
   const float* lut = srgb ? srgb8_table() : nullptr;  // decode8 reads it for sRGB only
-  F out[4] = {F(0.0f), F(0.0f), F(0.0f), F(0.0f)};
-  for (int c = 0; c < kUsed; ++c) {
-    const F c00 = decode_texel<kFmt, F>(t00, c, lut, srgb);
-    const F c10 = decode_texel<kFmt, F>(t10, c, lut, srgb);
-    const F c01 = decode_texel<kFmt, F>(t01, c, lut, srgb);
-    const F c11 = decode_texel<kFmt, F>(t11, c, lut, srgb);
-    const F top = c00 + a * (c10 - c00);
-    const F bottom = c01 + a * (c11 - c01);
-    out[c] = top + b * (bottom - top);
-  }
-  return {out[0], out[1], out[2], out[3]};
+  return bilinear_blend<kFmt, kUsed, F>(t00, t10, t01, t11, k.a, k.b, lut, srgb);
 }
 
 // The texel GL nearest filtering reads at uv on a level of size n (texture.cpp's sample_nearest):

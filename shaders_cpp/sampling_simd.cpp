@@ -22,25 +22,34 @@ template <TexFormat kFmt>
   return detail::sample_lod_texels<kFmt, 1, FN>(t, s, uv, lod).x;
 }
 
+// How a planned read filters a level: nearest, bilinear (bilinear_at, with all its paths), or
+// bilinear from footprint words alone (bilinear_footprint_at: R8 levels that all have them, a
+// depth search's usual read; without bilinear_at's fallbacks the entry needs no aligned stack
+// frame and saves three registers instead of five; callgrind: 132 to 113 instructions a read on
+// AVX2).
+enum class PlannedFilter { kNearest, kBilinear, kFootprints };
+
 // Reads through a prepared plan: every lane on the plan's level(s), kLevels of them (1 or 2),
-// with the filter of the plan's sampler (kNearest: nearest, else bilinear).
-template <TexFormat kFmt, bool kNearest>
+// filtered by kFilter.
+template <TexFormat kFmt, PlannedFilter kFilter>
 [[gnu::always_inline]] inline FN planned_level(const RLodPlan& p, const V2<FN>& uv, int k) {
   const RLodPlan::Level& l = p.level[k];
   const detail::LevelAccess<IN> at{
       IN(l.lvl), {IN(l.size.w), IN(l.size.h), IN(l.size.w_shift)}, l.src};
-  if constexpr (kNearest)
+  if constexpr (kFilter == PlannedFilter::kNearest)
     return detail::nearest_at<kFmt, 1, FN>(*p.texture, p.sampler, uv, at, p.pow2).x;
+  else if constexpr (kFilter == PlannedFilter::kFootprints)
+    return detail::bilinear_footprint_at<FN>(p.sampler, uv, at, p.pow2, p.lut, p.srgb);
   else
     return detail::bilinear_at<kFmt, 1, FN>(*p.texture, p.sampler, uv, at, p.pow2).x;
 }
-template <TexFormat kFmt, int kLevels, bool kNearest>
+template <TexFormat kFmt, int kLevels, PlannedFilter kFilter>
 RELIEF_LANE_FLATTEN FN planned(const RLodPlan& p, const V2<FN>& uv) {
-  const FN r = planned_level<kFmt, kNearest>(p, uv, 0);
+  const FN r = planned_level<kFmt, kFilter>(p, uv, 0);
   if constexpr (kLevels == 1) {
     return r;
   } else {
-    const FN r2 = planned_level<kFmt, kNearest>(p, uv, 1);
+    const FN r2 = planned_level<kFmt, kFilter>(p, uv, 1);
     return mix(r, r2, FN::load(p.f));  // lerp4's bits: r + (r2 - r) * f
   }
 }
@@ -48,8 +57,10 @@ RELIEF_LANE_FLATTEN FN planned(const RLodPlan& p, const V2<FN>& uv) {
 // (a top-level lane's weight is 0, its second level its first repeated).
 template <TexFormat kFmt>
 RELIEF_LANE_FLATTEN FN planned_straddle(const RLodPlan& p, const V2<FN>& uv) {
-  const FN r0 = planned_level<kFmt, false>(p, uv, 0), r1 = planned_level<kFmt, false>(p, uv, 1);
-  const FN r2 = planned_level<kFmt, false>(p, uv, 2);
+  constexpr PlannedFilter kBilinear = PlannedFilter::kBilinear;
+  const FN r0 = planned_level<kFmt, kBilinear>(p, uv, 0);
+  const FN r1 = planned_level<kFmt, kBilinear>(p, uv, 1);
+  const FN r2 = planned_level<kFmt, kBilinear>(p, uv, 2);
   const FN f = FN::load(p.f);
   return select(FN::load(p.upper) != FN(0.0f), mix(r1, r2, f), mix(r0, r1, f));
 }
@@ -60,8 +71,9 @@ FN planned_mixed(const RLodPlan& p, const V2<FN>& uv) {
 
 template <TexFormat kFmt>
 RLodPlan::Read planned_read(int levels, bool nearest) {
-  if (nearest) return &planned<kFmt, 1, true>;
-  return levels == 1 ? &planned<kFmt, 1, false> : &planned<kFmt, 2, false>;
+  if (nearest) return &planned<kFmt, 1, PlannedFilter::kNearest>;
+  return levels == 1 ? &planned<kFmt, 1, PlannedFilter::kBilinear>
+                     : &planned<kFmt, 2, PlannedFilter::kBilinear>;
 }
 
 }  // namespace
@@ -91,6 +103,8 @@ void begin_plan(const Texture& t, const SamplerState& s, const float* lod, RLodP
   p.read = &planned_mixed;
   p.shared_levels = false;
   p.straddles = false;
+  p.srgb = false;
+  p.lut = nullptr;
 }
 
 // quad_cone_lanes' plan: level[0] and pow2 set, and shared_levels, where the lanes can be read
@@ -224,6 +238,16 @@ void prepare_r_lod(const Texture& t, const SamplerState& s, const float* lod, RL
     return;
   }
   const int levels = two ? 2 : 1;
+  bool words = t.format() == TexFormat::kR8 && !nearest;
+  for (int k = 0; k < levels; ++k) words = words && p.level[k].src.footprints.words;
+  if (words) {
+    p.srgb = t.color_space() == ColorSpace::kSRGB;
+    p.lut = p.srgb ? srgb8_table() : nullptr;
+    constexpr TexFormat kR8 = TexFormat::kR8;
+    p.read = levels == 1 ? &planned<kR8, 1, PlannedFilter::kFootprints>
+                         : &planned<kR8, 2, PlannedFilter::kFootprints>;
+    return;
+  }
   switch (t.format()) {
     case TexFormat::kR8:
       p.read = planned_read<TexFormat::kR8>(levels, nearest);

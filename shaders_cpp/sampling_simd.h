@@ -69,6 +69,8 @@ struct RLodPlan {
   bool straddles = false;  // the lanes straddle (planned_straddle reads)
   Level level[3];
   bool pow2 = false;
+  bool srgb = false;  // an sRGB texture: lut is srgb8_table() (footprint reads)
+  const float* lut = nullptr;
   bool shared_levels =
       false;  // every lane on level[0] (and level[1]), or straddling: planned reads
   Read read = nullptr;

@@ -30,6 +30,7 @@ struct PlannedCheck {
   long footprint_plans = 0;  // plans whose first level reads footprint words
   long straddle_plans = 0;   // plans of lanes on two neighbouring pairs of levels
   long one_lod_blends = 0;   // plans of one LOD for every lane that blend two levels
+  long lut_plans = 0;        // plans that read through the sRGB table (footprint reads)
   std::string first_mismatch;
 };
 }  // namespace relief
@@ -41,14 +42,15 @@ namespace HWY_NAMESPACE {
 namespace {
 
 // Packets of reads against the scalar sampler, lane by lane: for each texture size (random texels
-// of `format`, full mip chains), filter and pair of wraps, 16 packets with one LOD per quad (every
-// quad on level 0 in packets 0 and 4, every quad at LOD 0.5 in packet 8 and 1.5 in packet 12)
-// and three reads each, the third at uvs far off the texture and on its
+// of `format` in colour space `space`, full mip chains), filter and pair of wraps, 16 packets with
+// one LOD per quad (every quad on level 0 in packets 0 and 4, every quad at LOD 0.5 in packet 8
+// and 1.5 in packet 12) and three reads each, the third at uvs far off the texture and on its
 // edges. read(t, s, plan, n, lod, uv) reads packet n; want(t, s, n, lane, lod, u, v)
 // is that lane's scalar value; counted(plan) says whether the packet's plan adds to
 // footprint_plans.
 template <class Read, class Want, class Counted>
-PlannedCheck check_packets(uint32_t seed, TexFormat format, std::initializer_list<Filter> filters,
+PlannedCheck check_packets(uint32_t seed, TexFormat format, ColorSpace space,
+                           std::initializer_list<Filter> filters,
                            std::initializer_list<Wrap> wraps_u, const Read& read, const Want& want,
                            const Counted& counted) {
   PlannedCheck c;
@@ -56,8 +58,8 @@ PlannedCheck check_packets(uint32_t seed, TexFormat format, std::initializer_lis
   std::uniform_real_distribution<float> uvd(-3.0f, 3.0f), lodd(-1.5f, 7.0f);
   constexpr float kFar[8] = {-3e9f, 3e9f, -1e5f, 1e5f, 0.0f, 1.0f, -0.0f, 2.0f};
   for (auto [w, h] : {std::pair{64, 32}, std::pair{37, 20}, std::pair{256, 256}, std::pair{1, 1}}) {
-    const Texture t = testing::random_texture(format, w, h, ColorSpace::kLinear,
-                                              seed + static_cast<uint32_t>(w * 7 + h));
+    const Texture t =
+        testing::random_texture(format, w, h, space, seed + static_cast<uint32_t>(w * 7 + h));
     for (Filter filter : filters)
       for (Wrap wu : wraps_u)
         for (Wrap wv : {Wrap::kRepeat, Wrap::kClamp}) {
@@ -91,6 +93,7 @@ PlannedCheck check_packets(uint32_t seed, TexFormat format, std::initializer_lis
             }
             if (counted(plan)) ++c.footprint_plans;
             if (plan.straddles) ++c.straddle_plans;
+            if (plan.lut) ++c.lut_plans;
             if (n >= 8 && n % 4 == 0 && plan.shared_levels && plan.f[0] != 0.0f) ++c.one_lod_blends;
           }
         }
@@ -98,9 +101,10 @@ PlannedCheck check_packets(uint32_t seed, TexFormat format, std::initializer_lis
   return c;
 }
 
-PlannedCheck check_planned_r8(uint32_t seed) {
+PlannedCheck check_planned_r8(uint32_t seed, bool srgb) {
   return check_packets(
-      seed, TexFormat::kR8, {Filter::kBilinear, Filter::kTrilinear}, {Wrap::kRepeat, Wrap::kClamp},
+      seed, TexFormat::kR8, srgb ? ColorSpace::kSRGB : ColorSpace::kLinear,
+      {Filter::kBilinear, Filter::kTrilinear}, {Wrap::kRepeat, Wrap::kClamp},
       [](const Texture& t, const SamplerState& s, RLodPlan& plan, int, const float* lod,
          const V2<FN>& uv) { return texture_r_lod_planned(t, s, lod, uv, plan); },
       [](const Texture& t, const SamplerState& s, int, int, float lod, float u, float v) {
@@ -122,7 +126,8 @@ int quad_shift(int n, int i, int axis) {
 // lanes on one level or on several.
 PlannedCheck check_quad_cone(uint32_t seed) {
   return check_packets(
-      seed, TexFormat::kRGBA16F, {Filter::kNearest}, {Wrap::kRepeat, Wrap::kClamp, Wrap::kMirror},
+      seed, TexFormat::kRGBA16F, ColorSpace::kLinear, {Filter::kNearest},
+      {Wrap::kRepeat, Wrap::kClamp, Wrap::kMirror},
       [](const Texture& t, const SamplerState& s, RLodPlan& plan, int n, const float* lod,
          const V2<FN>& uv) {
         IN shift_u, shift_v;
@@ -208,21 +213,31 @@ HWY_EXPORT(check_plan_copies);
 
 TEST(SamplingTargets, PlannedR8ReadsGiveSampleRLodBitsOnEveryLevel) {
   testing::on_every_level([](SimdLevel level) {
-    const PlannedCheck c = HWY_DYNAMIC_DISPATCH(check_planned_r8)(11);
-    EXPECT_EQ(c.mismatched, 0) << simd_level_name(level) << ": " << c.first_mismatch;
-    EXPECT_EQ(c.checked % 4, 0);
-    EXPECT_GT(c.checked, 4 * 2 * 4 * 16 * 3 * 4) << simd_level_name(level);
-    // quads on neighbouring pairs of levels are read through three levels
-    EXPECT_GE(c.straddle_plans, 5) << simd_level_name(level);
-    // one fractional LOD for every lane blends two shared levels: both such packets of the
-    // trilinear filter on the three textures with more than one level, at all four wraps
-    EXPECT_EQ(c.one_lod_blends, 3 * 4 * 2) << simd_level_name(level);
-    // the gather levels read footprint words wherever the lanes share a level: at least in every
-    // packet of one LOD for every quad (a quarter) of the three textures large enough for gathers
-    if (level != SimdLevel::kBaseline)
-      EXPECT_GE(c.footprint_plans, 3 * 2 * 4 * 4) << simd_level_name(level);
-    else
-      EXPECT_EQ(c.footprint_plans, 0);
+    for (bool srgb : {false, true}) {
+      const PlannedCheck c = HWY_DYNAMIC_DISPATCH(check_planned_r8)(11, srgb);
+      const std::string where = simd_level_name(level) + std::string(srgb ? " sRGB" : " linear");
+      EXPECT_EQ(c.mismatched, 0) << where << ": " << c.first_mismatch;
+      EXPECT_EQ(c.checked % 4, 0);
+      EXPECT_GT(c.checked, 4 * 2 * 4 * 16 * 3 * 4) << where;
+      // quads on neighbouring pairs of levels are read through three levels
+      EXPECT_GE(c.straddle_plans, 5) << where;
+      // one fractional LOD for every lane blends two shared levels: both such packets of the
+      // trilinear filter on the three textures with more than one level, at all four wraps
+      EXPECT_EQ(c.one_lod_blends, 3 * 4 * 2) << where;
+      // the gather levels read footprint words wherever the lanes share a level: at least in
+      // every packet of one LOD for every quad (a quarter) of the three textures large enough
+      // for gathers; an sRGB texture's footprint reads decode through the table
+      if (level != SimdLevel::kBaseline) {
+        EXPECT_GE(c.footprint_plans, 3 * 2 * 4 * 4) << where;
+        if (srgb)
+          EXPECT_GE(c.lut_plans, 3 * 2 * 4 * 4) << where;
+        else
+          EXPECT_EQ(c.lut_plans, 0) << where;
+      } else {
+        EXPECT_EQ(c.footprint_plans, 0);
+        EXPECT_EQ(c.lut_plans, 0);
+      }
+    }
   });
 }
 
