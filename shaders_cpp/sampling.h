@@ -409,16 +409,15 @@ template <TexFormat kFmt, int kUsed, class F>
 }
 
 // GL bilinear of an R8 level with footprint words (at.src.footprints), channel 0: bilinear_at's
-// bits, with none of its other paths. `lut` is srgb8_table() for an sRGB texture (srgb), else
-// unused.
+// bits, with none of its other paths. `lut` is srgb8_table() for an sRGB texture, else null.
 template <class F>
 [[gnu::always_inline]] inline F bilinear_footprint_at(const SamplerState& s, const V2<F>& uv,
                                                       const LevelAccess<int_t<F>>& at, bool pow2,
-                                                      const float* lut, bool srgb) {
+                                                      const float* lut) {
   const BilinearCorner<F> k = bilinear_corner<F>(uv, at.size.w, at.size.h);
   const int_t<F> word = footprint_word(at.src.footprints, s, k.ix, k.iy, at.size, pow2);
   return bilinear_blend<TexFormat::kR8, 1, F>(word, word >> 8, word >> 16, word >> 24, k.a, k.b,
-                                              lut, srgb)
+                                              lut, lut != nullptr)
       .x;
 }
 

@@ -39,7 +39,7 @@ template <TexFormat kFmt, PlannedFilter kFilter>
   if constexpr (kFilter == PlannedFilter::kNearest)
     return detail::nearest_at<kFmt, 1, FN>(*p.texture, p.sampler, uv, at, p.pow2).x;
   else if constexpr (kFilter == PlannedFilter::kFootprints)
-    return detail::bilinear_footprint_at<FN>(p.sampler, uv, at, p.pow2, p.lut, p.srgb);
+    return detail::bilinear_footprint_at<FN>(p.sampler, uv, at, p.pow2, p.lut);
   else
     return detail::bilinear_at<kFmt, 1, FN>(*p.texture, p.sampler, uv, at, p.pow2).x;
 }
@@ -103,7 +103,6 @@ void begin_plan(const Texture& t, const SamplerState& s, const float* lod, RLodP
   p.read = &planned_mixed;
   p.shared_levels = false;
   p.straddles = false;
-  p.srgb = false;
   p.lut = nullptr;
 }
 
@@ -241,8 +240,7 @@ void prepare_r_lod(const Texture& t, const SamplerState& s, const float* lod, RL
   bool words = t.format() == TexFormat::kR8 && !nearest;
   for (int k = 0; k < levels; ++k) words = words && p.level[k].src.footprints.words;
   if (words) {
-    p.srgb = t.color_space() == ColorSpace::kSRGB;
-    p.lut = p.srgb ? srgb8_table() : nullptr;
+    p.lut = t.color_space() == ColorSpace::kSRGB ? srgb8_table() : nullptr;
     constexpr TexFormat kR8 = TexFormat::kR8;
     p.read = levels == 1 ? &planned<kR8, 1, PlannedFilter::kFootprints>
                          : &planned<kR8, 2, PlannedFilter::kFootprints>;

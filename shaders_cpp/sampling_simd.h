@@ -69,8 +69,7 @@ struct RLodPlan {
   bool straddles = false;  // the lanes straddle (planned_straddle reads)
   Level level[3];
   bool pow2 = false;
-  bool srgb = false;  // an sRGB texture: lut is srgb8_table() (footprint reads)
-  const float* lut = nullptr;
+  const float* lut = nullptr;  // srgb8_table() for an sRGB texture's footprint reads, else null
   bool shared_levels =
       false;  // every lane on level[0] (and level[1]), or straddling: planned reads
   Read read = nullptr;
