@@ -365,27 +365,33 @@ struct BilinearCorner {
   int_t<F> ix, iy;
   F a, b;
 };
+// The level's size (w, h) as floats: bilinear_corner_sized; as integers: bilinear_corner.
 template <class F>
-[[gnu::always_inline]] inline BilinearCorner<F> bilinear_corner(const V2<F>& uv, const int_t<F>& w,
-                                                                const int_t<F>& h) {
-  const F xf = texel_coord(uv.x, to_float(w), F(0.5f));
-  const F yf = texel_coord(uv.y, to_float(h), F(0.5f));
+[[gnu::always_inline]] inline BilinearCorner<F> bilinear_corner_sized(const V2<F>& uv, const F& w,
+                                                                      const F& h) {
+  const F xf = texel_coord(uv.x, w, F(0.5f));
+  const F yf = texel_coord(uv.y, h, F(0.5f));
   const F fx = floor_coord(xf), fy = floor_coord(yf);
   return {trunc_to_int(fx), trunc_to_int(fy), xf - fx, yf - fy};
 }
+template <class F>
+[[gnu::always_inline]] inline BilinearCorner<F> bilinear_corner(const V2<F>& uv, const int_t<F>& w,
+                                                                const int_t<F>& h) {
+  return bilinear_corner_sized<F>(uv, to_float(w), to_float(h));
+}
 
 // The four R8 texels (t00, t10, t01, t11 in bytes 0 to 3) of the bilinear footprint with corner
-// (ix, iy) on a level with footprint words fp (Texture::r8_footprints): one gathered word.
+// (ix, iy) on a level whose footprint words (Texture::r8_footprints) are `words`, `pitch` of them
+// a row: one gathered word.
 template <class I>
-[[gnu::always_inline]] inline I footprint_word(const Texture::Footprints& fp, const SamplerState& s,
-                                               const I& ix, const I& iy, const LevelSize<I>& size,
-                                               bool pow2) {
+[[gnu::always_inline]] inline I footprint_word(const uint32_t* words, const I& pitch,
+                                               const SamplerState& s, const I& ix, const I& iy,
+                                               const LevelSize<I>& size, bool pow2) {
   const I col = footprint_cells(ix, size.w, s.wrap_u, pow2);
   const I row = footprint_cells(iy, size.h, s.wrap_v, pow2);
   // repeat across: a row is the level's width, a shift where it is a power of two
-  const I idx =
-      s.wrap_u == Wrap::kRepeat ? row_offset(row, size, pow2) + col : row * I(fp.width) + col;
-  return gather_u32(fp.words, idx);
+  const I idx = s.wrap_u == Wrap::kRepeat ? row_offset(row, size, pow2) + col : row * pitch + col;
+  return gather_u32(words, idx);
 }
 
 // Channels 0 .. kUsed - 1 of the bilinear blend of four texel words: each corner decoded, then
@@ -408,14 +414,34 @@ template <TexFormat kFmt, int kUsed, class F>
   return {out[0], out[1], out[2], out[3]};
 }
 
-// GL bilinear of an R8 level with footprint words (at.src.footprints), channel 0: bilinear_at's
-// bits, with none of its other paths. `lut` is srgb8_table() for an sRGB texture, else null.
+// A level as a planned read takes it, every value already in lanes (RLodPlan keeps one per level
+// of its footprint and nearest reads: no broadcast or conversion per read): its size, and its
+// footprint words where it has them.
+template <class F>
+struct LevelLanes {
+  F w, h;                    // the level's size, as floats
+  LevelSize<int_t<F>> size;  // and as integers, for the wraps
+  int_t<F> pitch;            // footprint words a row
+  const uint32_t* words;     // Texture::r8_footprints, or null
+};
+template <class F>
+inline LevelLanes<F> level_lanes(const LevelSize<int32_t>& size, const Texture::Footprints& fp) {
+  using I = int_t<F>;
+  return {F(static_cast<float>(size.w)),
+          F(static_cast<float>(size.h)),
+          {I(size.w), I(size.h), I(size.w_shift)},
+          I(fp.width),
+          fp.words};
+}
+
+// GL bilinear of an R8 level with footprint words, channel 0: bilinear_at's bits, with none of
+// its other paths. `lut` is srgb8_table() for an sRGB texture, else null.
 template <class F>
 [[gnu::always_inline]] inline F bilinear_footprint_at(const SamplerState& s, const V2<F>& uv,
-                                                      const LevelAccess<int_t<F>>& at, bool pow2,
+                                                      const LevelLanes<F>& l, bool pow2,
                                                       const float* lut) {
-  const BilinearCorner<F> k = bilinear_corner<F>(uv, at.size.w, at.size.h);
-  const int_t<F> word = footprint_word(at.src.footprints, s, k.ix, k.iy, at.size, pow2);
+  const BilinearCorner<F> k = bilinear_corner_sized<F>(uv, l.w, l.h);
+  const int_t<F> word = footprint_word(l.words, l.pitch, s, k.ix, k.iy, l.size, pow2);
   return bilinear_blend<TexFormat::kR8, 1, F>(word, word >> 8, word >> 16, word >> 24, k.a, k.b,
                                               lut, lut != nullptr)
       .x;
@@ -437,7 +463,8 @@ template <TexFormat kFmt, int kUsed, class F>
   if constexpr (kHwyLanes<F> && kFmt == TexFormat::kR8) {
     if (src.footprints.words) {  // the four texels in one word (Texture::r8_footprints)
       gathered = true;
-      const I word = footprint_word(src.footprints, s, ix, iy, at.size, pow2);
+      const I word =
+          footprint_word(src.footprints.words, I(src.footprints.width), s, ix, iy, at.size, pow2);
       t00 = word;  // decode8 takes each texel's byte
       t10 = word >> 8;
       t01 = word >> 16;
@@ -488,36 +515,52 @@ template <TexFormat kFmt, int kUsed, class F>
   return bilinear_blend<kFmt, kUsed, F>(t00, t10, t01, t11, k.a, k.b, lut, srgb);
 }
 
-// The texel GL nearest filtering reads at uv on a level of size n (texture.cpp's sample_nearest):
-// its index in the level, row by row.
+// The texel GL nearest filtering reads at uv on a level of size n, (w, h) as floats
+// (texture.cpp's sample_nearest): its index in the level, row by row.
 template <class F>
-[[gnu::always_inline]] inline int_t<F> nearest_index(const SamplerState& s, V2<F> uv,
-                                                     const LevelSize<int_t<F>>& n, bool pow2) {
+[[gnu::always_inline]] inline int_t<F> nearest_index_sized(const SamplerState& s, V2<F> uv,
+                                                           const F& w, const F& h,
+                                                           const LevelSize<int_t<F>>& n,
+                                                           bool pow2) {
   using I = int_t<F>;
-  const F xf = floor_coord(texel_coord(uv.x, to_float(n.w), F(0.0f)));
-  const F yf = floor_coord(texel_coord(uv.y, to_float(n.h), F(0.0f)));
+  const F xf = floor_coord(texel_coord(uv.x, w, F(0.0f)));
+  const F yf = floor_coord(texel_coord(uv.y, h, F(0.0f)));
   const I x = wrap_lanes(trunc_to_int(xf), n.w, s.wrap_u, pow2);
   const I y = wrap_lanes(trunc_to_int(yf), n.h, s.wrap_v, pow2);
   return row_offset(y, n, pow2) + x;
+}
+template <class F>
+[[gnu::always_inline]] inline int_t<F> nearest_index(const SamplerState& s, V2<F> uv,
+                                                     const LevelSize<int_t<F>>& n, bool pow2) {
+  return nearest_index_sized<F>(s, uv, to_float(n.w), to_float(n.h), n, pow2);
+}
+
+// The texel at index idx of the level(s) `at`, decoded (nearest_at's read).
+template <TexFormat kFmt, int kUsed, class F>
+[[gnu::always_inline]] inline V4<F> nearest_texel(const Texture& t, const int_t<F>& idx,
+                                                  const LevelAccess<int_t<F>>& at) {
+  using I = int_t<F>;
+  const I& lvl = at.lvl;
+  const WordSource& src = at.src;
+  constexpr int kB = texel_bytes(kFmt);
+  I word;
+  if constexpr (kHwyLanes<F>)
+    word =
+        src.gather ? gather_word<kB>(*src.level, idx) : load_words<kB, F>(t, lvl, src.level, idx);
+  else
+    word = load_words<kB, F>(t, lvl, src.level, idx);
+  const bool srgb = t.color_space() == ColorSpace::kSRGB;
+  const float* lut = srgb ? srgb8_table() : nullptr;
+  F out[4] = {F(0.0f), F(0.0f), F(0.0f), F(0.0f)};
+  for (int c = 0; c < kUsed; ++c) out[c] = decode_texel<kFmt, F>(word, c, lut, srgb);
+  return {out[0], out[1], out[2], out[3]};
 }
 
 // GL nearest at the mip level(s) `at` (texture.cpp's sample_nearest).
 template <TexFormat kFmt, int kUsed, class F>
 [[gnu::always_inline]] inline V4<F> nearest_at(const Texture& t, const SamplerState& s, V2<F> uv,
                                                const LevelAccess<int_t<F>>& at, bool pow2) {
-  using I = int_t<F>;
-  const I& lvl = at.lvl;
-  const I idx = nearest_index<F>(s, uv, at.size, pow2);
-  const WordSource& src = at.src;
-  I word;
-  if constexpr (kHwyLanes<F>)
-    if (src.gather) word = gather_word<texel_bytes(kFmt)>(*src.level, idx);
-  if (!src.gather) word = load_words<texel_bytes(kFmt), F>(t, lvl, src.level, idx);
-  const bool srgb = t.color_space() == ColorSpace::kSRGB;
-  const float* lut = srgb ? srgb8_table() : nullptr;
-  F out[4] = {F(0.0f), F(0.0f), F(0.0f), F(0.0f)};
-  for (int c = 0; c < kUsed; ++c) out[c] = decode_texel<kFmt, F>(word, c, lut, srgb);
-  return {out[0], out[1], out[2], out[3]};
+  return nearest_texel<kFmt, kUsed, F>(t, nearest_index<F>(s, uv, at.size, pow2), at);
 }
 
 template <class F>

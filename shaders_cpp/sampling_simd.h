@@ -70,6 +70,9 @@ struct RLodPlan {
   Level level[3];
   bool pow2 = false;
   const float* lut = nullptr;  // srgb8_table() for an sRGB texture's footprint reads, else null
+  // level[0..1] again in lanes, for footprint and nearest reads (PlannedFilter in
+  // sampling_simd.cpp)
+  detail::LevelLanes<FN> lanes[2];
   bool shared_levels =
       false;  // every lane on level[0] (and level[1]), or straddling: planned reads
   Read read = nullptr;
