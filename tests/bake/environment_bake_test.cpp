@@ -208,7 +208,9 @@ TEST(EnvironmentBake, SplitSumTableAgreesWithQuadratureAndNeverGainsEnergy) {
       EXPECT_LE(ab.x + ab.y, 1.0f + 1e-3f) << i << " " << j;
       EXPECT_GE(ab.x, 0.0f);
       EXPECT_GE(ab.y, 0.0f);
-      if (j == 0) EXPECT_NEAR(ab.x + ab.y, 1.0f, 0.01f) << i;  // roughness 1/64: a mirror
+      if (j == 0) {  // roughness 1/64: a mirror
+        EXPECT_NEAR(ab.x + ab.y, 1.0f, 0.01f) << i;
+      }
       if (1.0 - (ab.x + ab.y) > worst) {
         worst = 1.0 - (ab.x + ab.y);
         worst_i = i;

@@ -170,7 +170,9 @@ TEST(FurField, JitterBoundsTheTipHeights) {
     }
     EXPECT_GE(lo, 1.0f - jitter);
     EXPECT_LE(hi, 1.0f);
-    if (jitter > 0.0f) EXPECT_LT(lo, 1.0f - 0.8f * jitter);  // the range is used, not just its top
+    if (jitter > 0.0f) {  // the range is used, not just its top
+      EXPECT_LT(lo, 1.0f - 0.8f * jitter);
+    }
   }
   FurFieldOptions o = fur_field_defaults(FurKind::kFur);
   o.size = 64;
@@ -195,7 +197,9 @@ TEST(FurField, ColourRunsFromDarkRootToLightTip) {
     tips /= nt;
     roots /= nr;
     EXPECT_GT(tips.x + tips.y + tips.z, 3.0 * (roots.x + roots.y + roots.z));
-    if (kind == FurKind::kGrass) EXPECT_GT(tips.y, std::max(tips.x, tips.z));
+    if (kind == FurKind::kGrass) {
+      EXPECT_GT(tips.y, std::max(tips.x, tips.z));
+    }
   }
 }
 

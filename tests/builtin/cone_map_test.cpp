@@ -250,7 +250,9 @@ TEST(ConeMap, BilinearRelaxedConesLetNoRayOutOfTheSurface) {
           }
       }
     EXPECT_EQ(exits, 0) << "of " << rays << " rays";
-    if (!test::kSanitizedBuild) EXPECT_GT(point_exits, 0);
+    if (!test::kSanitizedBuild) {
+      EXPECT_GT(point_exits, 0);
+    }
     std::cout << (wrap ? "wrap" : "clamp") << ": " << rays
               << " rays, texel-point relaxed cones let " << point_exits
               << " out; bilinear relaxed / bilinear conservative ratio, mean " << wider / sources

@@ -118,7 +118,9 @@ TEST(DepthRange, LoaderClampsAndKeepsInRangeTexels) {
   EXPECT_EQ(t->fetch_r(0, 5, 2), 0.0f);
   for (int y = 0; y < 8; ++y)
     for (int x = 0; x < 8; ++x)
-      if (y != 2 || x < 3 || x > 5) EXPECT_EQ(t->fetch_r(0, x, y), p.at(x, y));
+      if (y != 2 || x < 3 || x > 5) {
+        EXPECT_EQ(t->fetch_r(0, x, y), p.at(x, y));
+      }
   fs::remove_all(dir);
 }
 

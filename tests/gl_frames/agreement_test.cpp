@@ -297,7 +297,9 @@ TEST_P(GlAgreementScene, MatchesCpu) {
   }
   EXPECT_GE(compared, 1);
   // room plans a shadow pass: the comparison ran with shadow maps.
-  if (GetParam() == "room") EXPECT_GT(shadow_passes, 0);
+  if (GetParam() == "room") {
+    EXPECT_GT(shadow_passes, 0);
+  }
   // The relief family ran with and without each effect (on plane, every twin's effects).
   if (GetParam() == "plane") {
     EXPECT_TRUE(variants_seen.count(0));

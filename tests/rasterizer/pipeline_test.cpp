@@ -158,8 +158,12 @@ TEST(Pipeline, WatertightFans) {
         const int c = classify(ring, {x + 0.5, y + 0.5});
         const int got = count[y * kW + x];
         ASSERT_LE(got, 1);
-        if (c == 1) ASSERT_EQ(got, 1) << "hole at " << x << "," << y << " trial " << trial;
-        if (c == 0) ASSERT_EQ(got, 0);
+        if (c == 1) {
+          ASSERT_EQ(got, 1) << "hole at " << x << "," << y << " trial " << trial;
+        }
+        if (c == 0) {
+          ASSERT_EQ(got, 0);
+        }
       }
   }
 }

@@ -60,7 +60,9 @@ TEST(EnvironmentIo, ExrRoundTripAndNegativeTexelsReplaced) {
   EXPECT_EQ(img->at(5, 6), glm::vec4(0.0f, 2.0f, 3.0f, 1.0f));
   for (int y = 0; y < 16; ++y)
     for (int x = 0; x < 32; ++x)
-      if (x != 5 || y != 6) EXPECT_EQ(img->at(x, y), src.at(x, y)) << x << " " << y;
+      if (x != 5 || y != 6) {
+        EXPECT_EQ(img->at(x, y), src.at(x, y)) << x << " " << y;
+      }
 }
 
 // Each error is one line that starts with the path.

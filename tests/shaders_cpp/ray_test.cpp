@@ -67,7 +67,9 @@ TEST(Ray, TangentViewAndStep) {
     for (float scale : {0.0f, 0.1f}) {
       V2<float> s = texture_step(W, scale);
       EXPECT_TRUE(std::isfinite(s.x) && std::isfinite(s.y));
-      if (scale == 0.0f) EXPECT_EQ(s.x, 0.0f);
+      if (scale == 0.0f) {
+        EXPECT_EQ(s.x, 0.0f);
+      }
     }
   }
   // at the eye: falls back to looking along -n
