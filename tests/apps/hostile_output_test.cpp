@@ -308,7 +308,9 @@ void expect_refused_early(const fs::path& dir, const std::string& args, int code
   EXPECT_EQ(r.code, code) << args << "\n" << r.out;
   expect_one_line(r, needles);
   EXPECT_LT(s, 5.0) << args << ": refused only after rendering";
-  if (!before.empty()) EXPECT_TRUE(slurp(dir / "a.png") == before) << "a.png changed: " << args;
+  if (!before.empty()) {
+    EXPECT_TRUE(slurp(dir / "a.png") == before) << "a.png changed: " << args;
+  }
   EXPECT_TRUE(temporaries(dir).empty()) << joined(temporaries(dir));
 }
 
@@ -432,7 +434,9 @@ TEST(Hostile, SignalDuringAWriteRemovesTemporariesAndExits128PlusSignal) {
     ASSERT_NE(status, -1) << "relief did not exit after signal " << sig;
     EXPECT_TRUE(WIFEXITED(status)) << "killed by signal " << WTERMSIG(status) << "\n"
                                    << slurp(dir / "relief.log");
-    if (WIFEXITED(status)) EXPECT_EQ(WEXITSTATUS(status), 128 + sig);
+    if (WIFEXITED(status)) {
+      EXPECT_EQ(WEXITSTATUS(status), 128 + sig);
+    }
     EXPECT_TRUE(temporaries(dir).empty()) << sig << ": " << joined(temporaries(dir));
   }
 }
@@ -454,7 +458,9 @@ TEST(Hostile, SignalAtAnyTimeLeavesNoTemporary) {
       if (!before_start) {
         EXPECT_TRUE(WIFEXITED(status))
             << sig << " at " << ms << " ms: killed by signal " << WTERMSIG(status);
-        if (WIFEXITED(status)) EXPECT_EQ(WEXITSTATUS(status), 128 + sig) << ms << " ms";
+        if (WIFEXITED(status)) {
+          EXPECT_EQ(WEXITSTATUS(status), 128 + sig) << ms << " ms";
+        }
       }
       EXPECT_TRUE(temporaries(dir).empty())
           << sig << " at " << ms << " ms: " << joined(temporaries(dir));

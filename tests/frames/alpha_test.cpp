@@ -336,7 +336,9 @@ TEST(AlphaGltf, ModeAndCutoffRoundTrip) {
     }
     ASSERT_NE(layer, nullptr);
     EXPECT_EQ(layer->alpha_mode, mode);
-    if (mode == AlphaMode::kMask) EXPECT_EQ(layer->alpha_cutoff, 0.25f);
+    if (mode == AlphaMode::kMask) {
+      EXPECT_EQ(layer->alpha_cutoff, 0.25f);
+    }
   }
 }
 

@@ -16,8 +16,9 @@ TEST(ExternalPlugin, LoadsAndRenders) {
   ASSERT_TRUE(reg.load(kFixture).ok());
   ASSERT_NE(reg.find("fixture_solid"), nullptr);
   // Through the global registry, as `relief render --plugin` does.
-  if (!PluginRegistry::global().find("fixture_solid"))
+  if (!PluginRegistry::global().find("fixture_solid")) {
     ASSERT_TRUE(PluginRegistry::global().load(kFixture).ok());
+  }
   Result<Scene> scene = make_builtin_scene("plane");
   ASSERT_TRUE(scene.ok());
   RenderOptions opt;

@@ -138,7 +138,9 @@ TEST(Shells, OneLayerIsTheOpaqueBase) {
   EXPECT_GT(covered(*f), covered(*flat) * 9 / 10);
   for (int y = 0; y < f->height; ++y)
     for (int x = 0; x < f->width; ++x)
-      if (f->depth.values[y * f->width + x] > 0.0f) ASSERT_EQ(f->aov_at(x, y)[kAovOffset[1]], 1.0f);
+      if (f->depth.values[y * f->width + x] > 0.0f) {
+        ASSERT_EQ(f->aov_at(x, y)[kAovOffset[1]], 1.0f);
+      }
 }
 
 // Corner cases stay finite: grazing views, a 1x1 depth map, an all-zero one (every shell opaque:
@@ -164,8 +166,9 @@ TEST(Shells, CornerCasesAreFinite) {
     EXPECT_GT(covered(*f), 160 * 90 / 2) << size;
     for (int y = 0; y < f->height; ++y)
       for (int x = 0; x < f->width; ++x)
-        if (f->depth.values[y * f->width + x] > 0.0f)  // the outermost shell, h = 7/8
+        if (f->depth.values[y * f->width + x] > 0.0f) {  // the outermost shell, h = 7/8
           ASSERT_EQ(f->aov_at(x, y)[kAovOffset[1]], 1.0f / 8.0f) << size;
+        }
   }
 }
 

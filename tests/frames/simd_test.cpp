@@ -131,9 +131,10 @@ TEST(Simd, EveryTechniqueIsBitIdenticalAcrossLevels) {
       const Framebuffer base = frames.frame(technique, false);
       // the cone family's lane loop shades two groups of lanes at a time (search_pair), the
       // scalar path one lane at a time: both in the shadow pass and the lit main pass
-      if (std::string(technique).find("cone") != std::string::npos)
+      if (std::string(technique).find("cone") != std::string::npos) {
         EXPECT_TRUE(identical(base, frames.frame(technique, true)))
             << c.scene << " " << technique << " scalar lanes";
+      }
       for (SimdLevel level : levels) {
         set_simd_level(level);
         const Framebuffer f = frames.frame(technique, false);
