@@ -69,7 +69,7 @@ TEST(StrictCli, IgnoredExtensionWarnsOnceAndStrictRefusesWithoutOutput) {
   EXPECT_TRUE(fs::exists(png));
   fs::remove(png);
 
-  for (const std::string cmd :
+  for (const std::string& cmd :
        {"render " + scene + " --size 16x16 -o " + png + " --strict",
         "export " + scene + " -o " + (dir / "e.gltf").string() + " --strict"}) {
     const CliRun s = run_shell("timeout 20 " + std::string(RELIEF_CLI) + " " + cmd);

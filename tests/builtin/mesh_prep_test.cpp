@@ -71,12 +71,13 @@ TEST(MeshPrep, QuadricOfTorusHasTheSaddleOnItsInnerHalf) {
   EXPECT_GT(saddle, static_cast<int>(m.positions.size()) / 3);  // negative Gaussian curvature
 }
 
-// z = -(c1 x^2 + c2 y^2) over a fine grid: at the apex (a, b) = (c1, c2) (depth along -N).
+// z = -(c1 x^2 + c2 y^2) over a fine grid: at the apex (a, b) = (c1, c2) (depth along -N). No
+// dP/ds (ds = 0): the tangents come from prepare_mesh, whose frame the quadric is fitted in.
 Surface height_field(float c1, float c2) {
   return [c1, c2](float s, float t) {
     const float x = (s - 0.5f) * 0.2f, y = (t - 0.5f) * 0.2f;
     const glm::vec3 n = glm::normalize(glm::vec3(2.0f * c1 * x, 2.0f * c2 * y, 1.0f));
-    return SurfacePoint{{x, y, -(c1 * x * x + c2 * y * y)}, n};
+    return SurfacePoint{{x, y, -(c1 * x * x + c2 * y * y)}, n, glm::vec3(0.0f)};
   };
 }
 

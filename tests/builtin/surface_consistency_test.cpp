@@ -316,7 +316,7 @@ QuadricHit<F> quadric_relaxed_before(const Field& f, float lod, const Cone& cone
   });
   QuadricHit<F> out;
   out.t = select(found | stalled, hi, F(0.0f));
-  out.miss = !found & !stalled;
+  out.miss = !(found | stalled);
   out.hit.uv = uv + duv * out.t;
   out.hit.depth = clamp(quadric_distance<D::value>(r, out.t), F(0.0f), F(1.0f));
   return out;

@@ -36,6 +36,13 @@ struct Alarm {
   ~Alarm() { ::alarm(0); }
 };
 
+// Load options that let URIs lead outside the scene's folder (`--allow-outside-scene-dir`).
+GltfLoadOptions outside_allowed() {
+  GltfLoadOptions o;
+  o.allow_outside_scene_dir = true;
+  return o;
+}
+
 void expect_one_line(const std::string& m) {
   EXPECT_EQ(m.find('\n'), std::string::npos) << m;
   EXPECT_EQ(m.find('\r'), std::string::npos) << m;
@@ -192,18 +199,18 @@ TEST_F(Hostile, DeviceImageUriIsRefused) {
   expect_refused(with_image_uri("z.gltf", "zero.png"), "leads outside the scene's folder");
   // ...and with the rule lifted, the regular-file rule does.
   expect_refused(with_image_uri("z.gltf", "zero.png"), "not a regular file (a character device)",
-                 {true});
+                 outside_allowed());
   expect_refused(with_image_uri("r.gltf", "random.png"), "not a regular file (a character device)",
-                 {true});
+                 outside_allowed());
   expect_refused(with_buffer_uri("b.gltf", "zero.png"), "not a regular file (a character device)",
-                 {true});
+                 outside_allowed());
 }
 
 TEST_F(Hostile, DotDotBufferUriIsRefusedAndAllowedByTheOption) {
   fs::copy_file(scene_ / "p.bin", dir_ / "outside.bin");
   const std::string path = with_buffer_uri("d.gltf", "../outside.bin");
   expect_refused(path, "/buffers/0/uri: '../outside.bin': leads outside the scene's folder");
-  Result<Scene> s = load_scene(path, {true});
+  Result<Scene> s = load_scene(path, outside_allowed());
   EXPECT_TRUE(s.ok()) << s.status().message();
 }
 
@@ -211,7 +218,8 @@ TEST_F(Hostile, SystemFileAsBufferIsRefusedAndItsSizeNotPrinted) {
   const std::string path = with_buffer_uri("pw.gltf", "../../../../../../../../etc/passwd");
   expect_refused(path, "leads outside the scene's folder");
   // Allowed outside: the size differs, and the size of a file outside the folder is not told.
-  const std::string m = expect_refused(path, "file size differs from byteLength", {true});
+  const std::string m =
+      expect_refused(path, "file size differs from byteLength", outside_allowed());
   const std::string size = std::to_string(fs::file_size("/etc/passwd"));
   EXPECT_EQ(m.find(" " + size + " "), std::string::npos) << m;
 }
@@ -228,7 +236,7 @@ TEST_F(Hostile, DotDotImageUriIsRefusedAndAllowedByTheOption) {
   fs::copy_file(scene_ / "p_bricks_base_color.png", dir_ / "outside.png");
   const std::string path = with_image_uri("d.gltf", "../outside.png");
   expect_refused(path, "/images/0/uri: '../outside.png': leads outside the scene's folder");
-  Result<Scene> s = load_scene(path, {true});
+  Result<Scene> s = load_scene(path, outside_allowed());
   EXPECT_TRUE(s.ok()) << s.status().message();
 }
 
@@ -242,11 +250,11 @@ TEST_F(Hostile, PercentEncodedDotDotImageUriIsRefused) {
 
 TEST_F(Hostile, AbsoluteImageUriIsRefusedAndAllowedByTheOption) {
   const std::string abs = (scene_ / "p_bricks_base_color.png").string();
-  Result<Scene> s = load_scene(with_image_uri("ok.gltf", abs), {true});
+  Result<Scene> s = load_scene(with_image_uri("ok.gltf", abs), outside_allowed());
   EXPECT_TRUE(s.ok()) << s.status().message();
   // Allowed outside, an absolute path still opens only regular files.
   expect_refused(with_image_uri("z.gltf", "/dev/zero"), "not a regular file (a character device)",
-                 {true});
+                 outside_allowed());
   expect_refused(with_image_uri("a.gltf", abs),
                  "an absolute path (URIs are relative to the scene's folder");
   expect_refused(with_image_uri("a.gltf", "/etc/passwd"),
@@ -283,7 +291,8 @@ TEST_F(Hostile, DirectoryUriIsADirectory) {
 
 TEST_F(Hostile, DataUriWithWrongByteLengthIsOneShortLine) {
   // 1.3 MB of base64 that is not byteLength bytes: the message must not echo the URI.
-  const std::string uri = "data:application/octet-stream;base64," + std::string(1300000, 'A');
+  std::string uri = "data:application/octet-stream;base64,";
+  uri.append(1300000, 'A');  // (operator+ on a temporary trips GCC 12's -Warray-bounds)
   const std::string m = expect_refused(with_buffer_uri("big.gltf", uri),
                                        "/buffers/0/uri: data URI holds 975000 bytes, byteLength");
   EXPECT_EQ(m.find("AAAAAAAA"), std::string::npos) << m.substr(0, 400);
