@@ -535,13 +535,12 @@ template <class F>
   return nearest_index_sized<F>(s, uv, to_float(n.w), to_float(n.h), n, pow2);
 }
 
-// The texel at index idx of the level(s) `at`, decoded (nearest_at's read).
+// The texel at index idx of the level(s) lvl, whose words `src` holds, decoded (nearest_at's
+// read; the level's size is in idx already).
 template <TexFormat kFmt, int kUsed, class F>
 [[gnu::always_inline]] inline V4<F> nearest_texel(const Texture& t, const int_t<F>& idx,
-                                                  const LevelAccess<int_t<F>>& at) {
+                                                  const int_t<F>& lvl, const WordSource& src) {
   using I = int_t<F>;
-  const I& lvl = at.lvl;
-  const WordSource& src = at.src;
   constexpr int kB = texel_bytes(kFmt);
   I word;
   if constexpr (kHwyLanes<F>)
@@ -560,7 +559,7 @@ template <TexFormat kFmt, int kUsed, class F>
 template <TexFormat kFmt, int kUsed, class F>
 [[gnu::always_inline]] inline V4<F> nearest_at(const Texture& t, const SamplerState& s, V2<F> uv,
                                                const LevelAccess<int_t<F>>& at, bool pow2) {
-  return nearest_texel<kFmt, kUsed, F>(t, nearest_index<F>(s, uv, at.size, pow2), at);
+  return nearest_texel<kFmt, kUsed, F>(t, nearest_index<F>(s, uv, at.size, pow2), at.lvl, at.src);
 }
 
 template <class F>

@@ -33,19 +33,17 @@ enum class PlannedFilter { kNearest, kBilinear, kFootprints };
 // filtered by kFilter.
 template <TexFormat kFmt, PlannedFilter kFilter>
 [[gnu::always_inline]] inline FN planned_level(const RLodPlan& p, const V2<FN>& uv, int k) {
+  const RLodPlan::Level& l = p.level[k];
   if constexpr (kFilter == PlannedFilter::kFootprints) {
     return detail::bilinear_footprint_at<FN>(p.sampler, uv, p.lanes[k], p.pow2, p.lut);
+  } else if constexpr (kFilter == PlannedFilter::kNearest) {
+    const detail::LevelLanes<FN>& n = p.lanes[k];
+    const IN idx = detail::nearest_index_sized<FN>(p.sampler, uv, n.w, n.h, n.size, p.pow2);
+    return detail::nearest_texel<kFmt, 1, FN>(*p.texture, idx, IN(l.lvl), l.src).x;
   } else {
-    const RLodPlan::Level& l = p.level[k];
     const detail::LevelAccess<IN> at{
         IN(l.lvl), {IN(l.size.w), IN(l.size.h), IN(l.size.w_shift)}, l.src};
-    if constexpr (kFilter == PlannedFilter::kNearest) {
-      const detail::LevelLanes<FN>& n = p.lanes[k];
-      const IN idx = detail::nearest_index_sized<FN>(p.sampler, uv, n.w, n.h, n.size, p.pow2);
-      return detail::nearest_texel<kFmt, 1, FN>(*p.texture, idx, at).x;
-    } else {
-      return detail::bilinear_at<kFmt, 1, FN>(*p.texture, p.sampler, uv, at, p.pow2).x;
-    }
+    return detail::bilinear_at<kFmt, 1, FN>(*p.texture, p.sampler, uv, at, p.pow2).x;
   }
 }
 template <TexFormat kFmt, int kLevels, PlannedFilter kFilter>
@@ -243,10 +241,10 @@ void prepare_r_lod(const Texture& t, const SamplerState& s, const float* lod, RL
   }
   const int levels = two ? 2 : 1;
   bool words = t.format() == TexFormat::kR8 && !nearest;
-  for (int k = 0; k < levels; ++k) {
-    words = words && p.level[k].src.footprints.words;
-    p.lanes[k] = detail::level_lanes<FN>(p.level[k].size, p.level[k].src.footprints);
-  }
+  for (int k = 0; k < levels; ++k) words = words && p.level[k].src.footprints.words;
+  if (words || nearest)  // the reads that take their levels in lanes
+    for (int k = 0; k < levels; ++k)
+      p.lanes[k] = detail::level_lanes<FN>(p.level[k].size, p.level[k].src.footprints);
   if (words) {
     p.lut = t.color_space() == ColorSpace::kSRGB ? srgb8_table() : nullptr;
     constexpr TexFormat kR8 = TexFormat::kR8;
